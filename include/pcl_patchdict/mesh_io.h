@@ -1,0 +1,48 @@
+// Reading and writing meshes and clouds: PLY (ASCII / binary), OBJ, OFF, STL (ASCII / binary), PCD.
+// Every reader validates what it reads and throws pcl::patchdict::Error with one clear line.
+#pragma once
+
+#include <pcl_patchdict/triangle_mesh.h>
+
+#include <string>
+
+namespace pcl {
+namespace patchdict {
+
+enum class MeshFormat { Unknown, PLY, OBJ, OFF, STL, PCD };
+
+/** Format from the file name's extension (case-insensitive); Unknown if not recognised. */
+MeshFormat formatFromPath(const std::string& path);
+/** Lower-case name of a format ("ply", "obj", ...). */
+std::string formatName(MeshFormat format);
+
+/** What a reader saw that a user may want to know (nothing in it is an error). */
+struct ReadInfo {
+  MeshFormat format = MeshFormat::Unknown;
+  bool binary = false;
+  std::size_t polygons_triangulated = 0;  ///< faces with more than 3 corners, fan-split
+  std::size_t lines_ignored = 0;          ///< OBJ records that carry no geometry (mtllib, usemtl, s, o, g, vt, ...)
+  std::size_t points_dropped = 0;         ///< PCD: non-finite points left out of the mesh
+};
+
+/** \brief Read a mesh or cloud; the format comes from the extension.
+  * Rejects (throws Error): missing/unreadable/empty files, truncated data, malformed records,
+  * face indices out of range, non-finite vertex coordinates (PCD: NaN points are dropped instead,
+  * as depth sensors write them). A file without faces gives a mesh with no faces (a cloud). */
+void readMesh(const std::string& path, TriangleMesh& mesh, ReadInfo* info = nullptr);
+
+struct WriteOptions {
+  /** PLY and STL: binary little-endian (default) or ASCII. PCD: binary or ASCII. */
+  bool binary = true;
+  /** Write per-vertex normals when the mesh has them (PLY, OBJ, PCD). */
+  bool write_normals = true;
+};
+
+/** \brief Write a mesh or cloud; the format comes from the extension.
+  * Text formats print coordinates in the shortest form that reads back to the same double,
+  * so every format round-trips exactly. The file is written to a temporary file in the target
+  * directory and renamed into place: it appears whole or not at all. Throws Error. */
+void writeMesh(const std::string& path, const TriangleMesh& mesh, const WriteOptions& options = {});
+
+}  // namespace patchdict
+}  // namespace pcl

@@ -1,0 +1,40 @@
+// Helpers shared by the test suites: temporary directories and running the pcl_patchdict tool.
+#pragma once
+
+#include <string>
+
+namespace test_support {
+
+/** A fresh empty directory under the system temp dir, removed when the object dies. */
+class TempDir {
+public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::string& path() const { return path_; }
+  std::string file(const std::string& name) const { return path_ + "/" + name; }
+
+private:
+  std::string path_;
+};
+
+struct ToolResult {
+  int exit_code = -1;
+  std::string out;  ///< stdout
+  std::string err;  ///< stderr
+};
+
+/** Runs the built pcl_patchdict tool with the given argument string (shell-quoted by the caller). */
+ToolResult runTool(const std::string& arguments);
+
+/** Whole file as bytes ("" if missing). */
+std::string readFile(const std::string& path);
+/** Writes bytes to a file (test fixtures). */
+void writeFile(const std::string& path, const std::string& bytes);
+
+/** Directory of the bundled data (data/) and test fixtures (test/data). */
+std::string dataDir();
+std::string testDataDir();
+
+}  // namespace test_support
