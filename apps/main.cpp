@@ -1,3 +1,86 @@
-// pcl_patchdict — command-line front end (placeholder until the subcommands land).
+// pcl_patchdict — one tool, many subcommands (see `pcl_patchdict help`). Every failure is one line
+// on stderr and a non-zero exit: 1 for bad input or a failed run, 2 for a malformed command line.
+#include "cli.h"
+
 #include <cstdio>
-int main() { std::fprintf(stderr, "pcl_patchdict: no subcommands yet\n"); return 2; }
+#include <exception>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <new>
+
+namespace cli = pcl::patchdict::cli;
+
+namespace {
+
+struct Subcommand {
+  std::function<int(const std::vector<std::string>&)> run;  // empty: not available yet
+  const char* synopsis;
+  const char* what;
+};
+
+const std::vector<std::pair<std::string, Subcommand>>& subcommands()
+{
+  static const std::vector<std::pair<std::string, Subcommand>> table{
+      {"demo", {cli::runDemo, "demo [--json]", "the main job on the bundled mesh"}},
+      {"info", {cli::runInfo, "info IN [--json]", "statistics and hygiene report of a mesh or cloud"}},
+      {"eval", {cli::runEval, "eval REF OUT [--vertices IDX.txt] [--samples N] [--absolute] [--json]",
+                "vertex RMSE, symmetric surface distance, Hausdorff and PSNR of OUT against REF"}},
+      {"quads", {{}, "quads IN -o QUADS.obj", "coarse mesh + field-aligned quad mesh"}},
+      {"patches", {{}, "patches IN -o PATCHES.pds [--png SHEET.png]", "height-map patch set"}},
+      {"learn", {{}, "learn IN... -o DICT.pdd", "learn a patch dictionary"}},
+      {"reconstruct", {{}, "reconstruct IN [--dict DICT.pdd] -o OUT", "patch round trip"}},
+      {"compress", {{}, "compress IN --dict DICT.pdd -o OUT.pdc", "compress as quad mesh + sparse codes"}},
+      {"decompress", {{}, "decompress IN.pdc --dict DICT.pdd -o OUT", "decode a .pdc file"}},
+      {"denoise", {{}, "denoise IN [--dict DICT.pdd] -o OUT", "denoise with a patch dictionary"}},
+      {"inpaint", {{}, "inpaint IN --missing IDX.txt [--dict DICT.pdd | --no-patches] -o OUT",
+                   "recover missing vertices"}},
+      {"fill-holes", {{}, "fill-holes IN [--dict DICT.pdd | --no-patches] -o OUT", "fill holes"}},
+  };
+  return table;
+}
+
+}  // namespace
+
+int cli::runHelp(const std::vector<std::string>&)
+{
+  std::cout << "pcl_patchdict — repair and compress 3D surfaces with learned dictionaries of height-map patches\n\n"
+               "usage: pcl_patchdict COMMAND [ARGS] [OPTIONS]\n\ncommands:\n";
+  for (const auto& [name, command] : subcommands())
+    std::printf("  %-84s %s%s\n", command.synopsis, command.what, command.run ? "" : " (not in this version yet)");
+  std::cout << "  help                                                                                 this text\n\n"
+               "common options: --threads T, --seed X, --json (one JSON object on stdout), --quiet (no progress on stderr)\n"
+               "formats: PLY (ascii/binary), OBJ, OFF, STL meshes; PCD and face-less PLY clouds\n";
+  return 0;
+}
+
+int main(int argc, char** argv)
+{
+  const std::vector<std::string> all(argv + 1, argv + argc);
+  if (all.empty() || all[0] == "help" || all[0] == "--help" || all[0] == "-h")
+    return cli::runHelp({});
+  const std::string name = all[0];
+  const std::vector<std::string> args(all.begin() + 1, all.end());
+  try {
+    for (const auto& [command_name, command] : subcommands()) {
+      if (command_name != name)
+        continue;
+      if (!command.run) {
+        std::cerr << "pcl_patchdict: '" << name << "' is not available in this version yet\n";
+        return 2;
+      }
+      return command.run(args);
+    }
+    std::cerr << "pcl_patchdict: unknown command '" << name << "' (see 'pcl_patchdict help')\n";
+    return 2;
+  } catch (const cli::UsageError& e) {
+    std::cerr << "pcl_patchdict " << name << ": " << e.what() << '\n';
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "pcl_patchdict " << name << ": error: out of memory\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "pcl_patchdict " << name << ": error: " << e.what() << '\n';
+    return 1;
+  }
+}

@@ -1,0 +1,253 @@
+#include "cli.h"
+
+#include <pcl_patchdict/mesh_hygiene.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <omp.h>
+#include <sstream>
+
+namespace pcl {
+namespace patchdict {
+namespace cli {
+
+Arguments::Arguments(const std::vector<std::string>& args, const std::set<std::string>& value_options,
+                     const std::set<std::string>& flag_options)
+{
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    if (arg.size() < 3 || arg.compare(0, 2, "--") != 0) {
+      if (arg.size() > 1 && arg[0] == '-' && arg != "-o")
+        throw UsageError("unknown option '" + arg + "'");
+      if (arg == "-o") {  // the one short option: -o OUT
+        if (i + 1 >= args.size())
+          throw UsageError("option -o needs a value");
+        values_["output"] = args[++i];
+        continue;
+      }
+      positionals_.push_back(arg);
+      continue;
+    }
+    std::string name = arg.substr(2), value;
+    const auto equals = name.find('=');
+    const bool inline_value = equals != std::string::npos;
+    if (inline_value) {
+      value = name.substr(equals + 1);
+      name = name.substr(0, equals);
+    }
+    if (flag_options.count(name)) {
+      if (inline_value)
+        throw UsageError("option --" + name + " takes no value");
+      values_[name] = "1";
+    } else if (value_options.count(name)) {
+      if (!inline_value) {
+        if (i + 1 >= args.size())
+          throw UsageError("option --" + name + " needs a value");
+        value = args[++i];
+      }
+      values_[name] = value;
+    } else {
+      throw UsageError("unknown option '--" + name + "'");
+    }
+  }
+}
+
+std::string Arguments::get(const std::string& name, const std::string& fallback) const
+{
+  const auto it = values_.find(name);
+  return it == values_.end() ? fallback : it->second;
+}
+
+double Arguments::getDouble(const std::string& name, double fallback, double min_value, double max_value) const
+{
+  if (!has(name))
+    return fallback;
+  const std::string text = get(name);
+  double value = 0.0;
+  const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (result.ec != std::errc() || result.ptr != text.data() + text.size() || !std::isfinite(value))
+    throw UsageError("option --" + name + ": '" + text + "' is not a number");
+  if (value < min_value || value > max_value) {
+    std::ostringstream out;
+    out << "option --" << name << ": " << text << " is out of range [" << min_value << ", " << max_value << "]";
+    throw UsageError(out.str());
+  }
+  return value;
+}
+
+long long Arguments::getInt(const std::string& name, long long fallback, long long min_value, long long max_value) const
+{
+  if (!has(name))
+    return fallback;
+  const std::string text = get(name);
+  long long value = 0;
+  const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (result.ec != std::errc() || result.ptr != text.data() + text.size())
+    throw UsageError("option --" + name + ": '" + text + "' is not an integer");
+  if (value < min_value || value > max_value)
+    throw UsageError("option --" + name + ": " + text + " is out of range [" + std::to_string(min_value) +
+                     ", " + std::to_string(max_value) + "]");
+  return value;
+}
+
+void Arguments::expectPositionals(std::size_t min_count, std::size_t max_count, const std::string& usage) const
+{
+  if (positionals_.size() < min_count || positionals_.size() > max_count)
+    throw UsageError("usage: " + usage);
+}
+
+const std::set<std::string>& commonValueOptions()
+{
+  static const std::set<std::string> options{"threads", "seed"};
+  return options;
+}
+
+const std::set<std::string>& commonFlagOptions()
+{
+  static const std::set<std::string> options{"json", "quiet"};
+  return options;
+}
+
+void applyCommonOptions(const Arguments& args)
+{
+  if (args.has("threads"))
+    omp_set_num_threads(static_cast<int>(args.getInt("threads", 1, 1, 1024)));
+}
+
+namespace {
+
+std::string quote(const std::string& text)
+{
+  std::string out = "\"";
+  for (const char c : text) {
+    switch (c) {
+    case '"': out += "\\\""; break;
+    case '\\': out += "\\\\"; break;
+    case '\n': out += "\\n"; break;
+    case '\t': out += "\\t"; break;
+    case '\r': out += "\\r"; break;
+    default:
+      if (static_cast<unsigned char>(c) < 0x20) {
+        char buffer[8];
+        std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
+        out += buffer;
+      } else {
+        out += c;
+      }
+    }
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+JsonObject& JsonObject::add(const std::string& key, double value)
+{
+  if (!std::isfinite(value)) {
+    // JSON has no Infinity/NaN: an infinite PSNR (identical surfaces) is written as null.
+    members_.emplace_back(key, "null");
+    return *this;
+  }
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  members_.emplace_back(key, std::string(buffer, result.ptr));
+  return *this;
+}
+
+JsonObject& JsonObject::add(const std::string& key, long long value)
+{
+  members_.emplace_back(key, std::to_string(value));
+  return *this;
+}
+
+JsonObject& JsonObject::add(const std::string& key, bool value)
+{
+  members_.emplace_back(key, value ? "true" : "false");
+  return *this;
+}
+
+JsonObject& JsonObject::add(const std::string& key, const std::string& value)
+{
+  members_.emplace_back(key, quote(value));
+  return *this;
+}
+
+JsonObject& JsonObject::add(const std::string& key, const JsonObject& value)
+{
+  members_.emplace_back(key, value.str());
+  return *this;
+}
+
+JsonObject& JsonObject::addNull(const std::string& key)
+{
+  members_.emplace_back(key, "null");
+  return *this;
+}
+
+std::string JsonObject::str() const
+{
+  std::string out = "{";
+  for (std::size_t i = 0; i < members_.size(); ++i) {
+    if (i)
+      out += ", ";
+    out += quote(members_[i].first) + ": " + members_[i].second;
+  }
+  return out + "}";
+}
+
+void StageTimer::start(const std::string& stage)
+{
+  stop();
+  current_ = stage;
+  started_ = std::chrono::steady_clock::now();
+  note(quiet_, stage + " ...");
+}
+
+void StageTimer::stop()
+{
+  if (current_.empty())
+    return;
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+  seconds_.emplace_back(current_, seconds);
+  current_.clear();
+}
+
+JsonObject StageTimer::json() const
+{
+  JsonObject object;
+  for (const auto& [stage, seconds] : seconds_)
+    object.add(stage, seconds);
+  return object;
+}
+
+void note(bool quiet, const std::string& text)
+{
+  if (!quiet)
+    std::cerr << text << '\n';
+}
+
+TriangleMesh loadMesh(const std::string& path, bool quiet, ReadInfo* info)
+{
+  TriangleMesh mesh;
+  ReadInfo local_info;
+  readMesh(path, mesh, &local_info);
+  if (info)
+    *info = local_info;
+  if (!quiet) {
+    std::ostringstream out;
+    out << "read " << path << " (" << formatName(local_info.format) << (local_info.binary ? ", binary" : "") << ")";
+    if (local_info.polygons_triangulated)
+      out << ", " << local_info.polygons_triangulated << " polygons triangulated";
+    if (local_info.points_dropped)
+      out << ", " << local_info.points_dropped << " non-finite points dropped";
+    note(false, out.str());
+    note(false, "  " + inspectMesh(mesh).summary());
+  }
+  return mesh;
+}
+
+}  // namespace cli
+}  // namespace patchdict
+}  // namespace pcl

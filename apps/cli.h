@@ -1,0 +1,99 @@
+// Shared plumbing of the pcl_patchdict tool: argument parsing (options in any order), a small
+// ordered JSON writer for --json, stage timing, and the load step every subcommand shares.
+#pragma once
+
+#include <pcl_patchdict/error.h>
+#include <pcl_patchdict/mesh_io.h>
+
+#include <chrono>
+#include <map>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace pcl {
+namespace patchdict {
+namespace cli {
+
+/** Thrown for a malformed command line (exit code 2, usage hint). */
+struct UsageError : Error {
+  using Error::Error;
+};
+
+/** Parsed command line of one subcommand: positionals in order, options by name. */
+class Arguments {
+public:
+  /** value_options take a value (--name V or --name=V); flag_options take none. Unknown options
+    * and missing values are UsageErrors. */
+  Arguments(const std::vector<std::string>& args, const std::set<std::string>& value_options,
+            const std::set<std::string>& flag_options);
+
+  const std::vector<std::string>& positionals() const { return positionals_; }
+  bool has(const std::string& name) const { return values_.count(name) > 0; }
+  std::string get(const std::string& name, const std::string& fallback = "") const;
+  double getDouble(const std::string& name, double fallback, double min_value, double max_value) const;
+  long long getInt(const std::string& name, long long fallback, long long min_value, long long max_value) const;
+  /** Exactly `count` positionals, named for the usage message. */
+  void expectPositionals(std::size_t min_count, std::size_t max_count, const std::string& usage) const;
+
+private:
+  std::vector<std::string> positionals_;
+  std::map<std::string, std::string> values_;
+};
+
+/** Options every subcommand accepts. */
+const std::set<std::string>& commonValueOptions();
+const std::set<std::string>& commonFlagOptions();
+/** Applies --threads. */
+void applyCommonOptions(const Arguments& args);
+
+/** Insertion-ordered JSON object; values are written as they are added. */
+class JsonObject {
+public:
+  JsonObject& add(const std::string& key, double value);
+  JsonObject& add(const std::string& key, long long value);
+  JsonObject& add(const std::string& key, std::size_t value) { return add(key, static_cast<long long>(value)); }
+  JsonObject& add(const std::string& key, int value) { return add(key, static_cast<long long>(value)); }
+  JsonObject& add(const std::string& key, bool value);
+  JsonObject& add(const std::string& key, const std::string& value);
+  JsonObject& add(const std::string& key, const char* value) { return add(key, std::string(value)); }
+  JsonObject& add(const std::string& key, const JsonObject& value);
+  JsonObject& addNull(const std::string& key);
+  std::string str() const;
+
+private:
+  std::vector<std::pair<std::string, std::string>> members_;  // key, serialised value
+};
+
+/** Wall-clock time per named stage, for --json and progress lines. */
+class StageTimer {
+public:
+  explicit StageTimer(bool quiet) : quiet_(quiet) {}
+  /** Starts a stage (ending the previous one) and prints its name to stderr unless quiet. */
+  void start(const std::string& stage);
+  void stop();
+  JsonObject json() const;
+
+private:
+  bool quiet_;
+  std::string current_;
+  std::chrono::steady_clock::time_point started_;
+  std::vector<std::pair<std::string, double>> seconds_;
+};
+
+/** Reads a mesh with the reader's notes and the hygiene summary printed to stderr (unless quiet). */
+TriangleMesh loadMesh(const std::string& path, bool quiet, ReadInfo* info = nullptr);
+
+/** Progress/notes line on stderr unless quiet. */
+void note(bool quiet, const std::string& text);
+
+// Subcommands: each returns the process exit code.
+int runHelp(const std::vector<std::string>& args);
+int runInfo(const std::vector<std::string>& args);
+int runEval(const std::vector<std::string>& args);
+int runDemo(const std::vector<std::string>& args);
+
+}  // namespace cli
+}  // namespace patchdict
+}  // namespace pcl

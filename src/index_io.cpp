@@ -1,0 +1,59 @@
+#include <pcl_patchdict/atomic_file.h>
+#include <pcl_patchdict/error.h>
+#include <pcl_patchdict/index_io.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+namespace pcl {
+namespace patchdict {
+
+std::vector<int> readIndexFile(const std::string& path, std::size_t num_vertices)
+{
+  std::ifstream in(path);
+  if (!in)
+    throw Error("cannot open index file '" + path + "'");
+  std::vector<int> indices;
+  std::vector<char> seen(num_vertices, 0);
+  std::string line;
+  std::size_t line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#')
+      continue;
+    const auto last = line.find_last_not_of(" \t\r");
+    const std::string token = line.substr(first, last - first + 1);
+    const std::string where = "index file '" + path + "' line " + std::to_string(line_number) + ": ";
+    errno = 0;
+    char* end = nullptr;
+    const long long value = std::strtoll(token.c_str(), &end, 10);
+    if (end == token.c_str() || *end != '\0' || errno == ERANGE)
+      throw Error(where + "'" + token + "' is not an integer vertex index");
+    if (value < 0)
+      throw Error(where + "negative vertex index " + token);
+    if (static_cast<unsigned long long>(value) >= num_vertices)
+      throw Error(where + "vertex index " + token + " is out of range (the mesh has " +
+                  std::to_string(num_vertices) + " vertices)");
+    if (seen[value])
+      throw Error(where + "vertex index " + token + " is listed twice");
+    seen[value] = 1;
+    indices.push_back(static_cast<int>(value));
+  }
+  if (in.bad())
+    throw Error("error while reading index file '" + path + "'");
+  return indices;
+}
+
+void writeIndexFile(const std::string& path, const std::vector<int>& indices)
+{
+  std::ostringstream out;
+  for (const int index : indices)
+    out << index << '\n';
+  writeFileAtomically(path, out.str());
+}
+
+}  // namespace patchdict
+}  // namespace pcl

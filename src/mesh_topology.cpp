@@ -1,0 +1,187 @@
+#include <pcl_patchdict/mesh_topology.h>
+
+#include <algorithm>
+#include <numeric>
+#include <tuple>
+
+namespace pcl {
+namespace patchdict {
+
+namespace {
+
+// Union-find with path halving; used for components.
+struct DisjointSets {
+  std::vector<int> parent;
+  explicit DisjointSets(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int x)
+  {
+    while (parent[x] != x)
+      x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(int a, int b)
+  {
+    a = find(a);
+    b = find(b);
+    if (a != b)
+      parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+}  // namespace
+
+EdgeFaceAdjacency computeEdgeFaceAdjacency(const TriangleMesh& mesh)
+{
+  // Sort (v0, v1, face, side) records so that equal edges become runs: O(F log F), no hashing.
+  struct Side {
+    std::int32_t v0, v1, face, side;
+  };
+  std::vector<Side> sides;
+  sides.reserve(mesh.faces.size() * 3);
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    const Face& t = mesh.faces[f];
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
+      continue;  // a face repeating a vertex has no proper edges; it would fake non-manifold ones
+    for (int k = 0; k < 3; ++k) {
+      std::int32_t a = t[k], b = t[(k + 1) % 3];
+      if (a > b)
+        std::swap(a, b);
+      sides.push_back({a, b, static_cast<std::int32_t>(f), k});
+    }
+  }
+  std::sort(sides.begin(), sides.end(), [](const Side& x, const Side& y) {
+    return std::tie(x.v0, x.v1, x.face, x.side) < std::tie(y.v0, y.v1, y.face, y.side);
+  });
+  EdgeFaceAdjacency adjacency;
+  adjacency.face_edges.assign(mesh.faces.size(), {-1, -1, -1});
+  for (std::size_t i = 0; i < sides.size();) {
+    MeshEdge edge;
+    edge.v0 = sides[i].v0;
+    edge.v1 = sides[i].v1;
+    const auto edge_index = static_cast<std::int32_t>(adjacency.edges.size());
+    std::size_t j = i;
+    for (; j < sides.size() && sides[j].v0 == edge.v0 && sides[j].v1 == edge.v1; ++j) {
+      edge.faces.push_back(sides[j].face);
+      adjacency.face_edges[sides[j].face][sides[j].side] = edge_index;
+    }
+    adjacency.edges.push_back(std::move(edge));
+    i = j;
+  }
+  return adjacency;
+}
+
+std::vector<std::vector<std::int32_t>> computeVertexOneRings(const TriangleMesh& mesh)
+{
+  std::vector<std::vector<std::int32_t>> rings(mesh.vertices.size());
+  for (const Face& f : mesh.faces)
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t a = f[k], b = f[(k + 1) % 3];
+      if (a == b)
+        continue;
+      rings[a].push_back(b);
+      rings[b].push_back(a);
+    }
+  for (auto& ring : rings) {
+    std::sort(ring.begin(), ring.end());
+    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+  }
+  return rings;
+}
+
+std::vector<std::vector<std::int32_t>> computeVertexFaces(const TriangleMesh& mesh)
+{
+  std::vector<std::vector<std::int32_t>> vertex_faces(mesh.vertices.size());
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      auto& list = vertex_faces[mesh.faces[f][k]];
+      if (list.empty() || list.back() != static_cast<std::int32_t>(f))
+        list.push_back(static_cast<std::int32_t>(f));
+    }
+  return vertex_faces;
+}
+
+std::vector<BoundaryLoop> computeBoundaryLoops(const TriangleMesh& mesh)
+{
+  const EdgeFaceAdjacency adjacency = computeEdgeFaceAdjacency(mesh);
+  // Boundary edges around each vertex.
+  std::vector<std::vector<std::int32_t>> incident(mesh.vertices.size());
+  std::vector<std::int32_t> boundary_edges;
+  for (std::size_t e = 0; e < adjacency.edges.size(); ++e)
+    if (adjacency.edges[e].isBoundary()) {
+      boundary_edges.push_back(static_cast<std::int32_t>(e));
+      incident[adjacency.edges[e].v0].push_back(static_cast<std::int32_t>(e));
+      incident[adjacency.edges[e].v1].push_back(static_cast<std::int32_t>(e));
+    }
+  std::vector<char> used(adjacency.edges.size(), 0);
+  std::vector<BoundaryLoop> loops;
+  for (const std::int32_t start_edge : boundary_edges) {
+    if (used[start_edge])
+      continue;
+    BoundaryLoop loop;
+    const MeshEdge& first = adjacency.edges[start_edge];
+    const std::int32_t start = first.v0;
+    std::int32_t current = first.v1;
+    used[start_edge] = 1;
+    loop.vertices.push_back(start);
+    loop.length += (mesh.vertices[first.v0] - mesh.vertices[first.v1]).norm();
+    if (incident[start].size() > 2)
+      loop.through_nonmanifold_vertex = true;
+    while (current != start) {
+      loop.vertices.push_back(current);
+      if (incident[current].size() > 2)
+        loop.through_nonmanifold_vertex = true;
+      // Next unused boundary edge at `current`, lowest index first for determinism.
+      std::int32_t next_edge = -1;
+      for (const std::int32_t candidate : incident[current])
+        if (!used[candidate]) {
+          next_edge = candidate;
+          break;
+        }
+      if (next_edge < 0) {
+        loop.open = true;
+        break;
+      }
+      used[next_edge] = 1;
+      const MeshEdge& e = adjacency.edges[next_edge];
+      const std::int32_t next = e.v0 == current ? e.v1 : e.v0;
+      loop.length += (mesh.vertices[current] - mesh.vertices[next]).norm();
+      current = next;
+    }
+    loops.push_back(std::move(loop));
+  }
+  std::stable_sort(loops.begin(), loops.end(), [](const BoundaryLoop& a, const BoundaryLoop& b) {
+    if (a.length != b.length)
+      return a.length > b.length;
+    return *std::min_element(a.vertices.begin(), a.vertices.end()) <
+           *std::min_element(b.vertices.begin(), b.vertices.end());
+  });
+  return loops;
+}
+
+int computeConnectedComponents(const TriangleMesh& mesh, std::vector<int>& face_component,
+                               std::vector<int>& vertex_component)
+{
+  DisjointSets sets(mesh.vertices.size());
+  for (const Face& f : mesh.faces) {
+    sets.unite(f[0], f[1]);
+    sets.unite(f[1], f[2]);
+  }
+  // Number the components in order of their first face.
+  std::vector<int> label(mesh.vertices.size(), -1);
+  int count = 0;
+  face_component.assign(mesh.faces.size(), -1);
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    const int root = sets.find(mesh.faces[f][0]);
+    if (label[root] < 0)
+      label[root] = count++;
+    face_component[f] = label[root];
+  }
+  vertex_component.assign(mesh.vertices.size(), -1);
+  for (const Face& f : mesh.faces)
+    for (int k = 0; k < 3; ++k)
+      vertex_component[f[k]] = label[sets.find(f[k])];
+  return count;
+}
+
+}  // namespace patchdict
+}  // namespace pcl
