@@ -3,8 +3,8 @@
 
 #include <atomic>
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
+#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
@@ -12,58 +12,106 @@
 namespace pcl {
 namespace patchdict {
 
-void writeFileAtomically(const std::string& path, const std::string& bytes)
+namespace fs = std::filesystem;
+
+namespace {
+
+[[noreturn]] void failWrite(const std::string& path, const std::string& what)
 {
-  namespace fs = std::filesystem;
+  throw Error("cannot write '" + path + "': " + what);
+}
+
+[[noreturn]] void failRead(const std::string& path, const std::string& what)
+{
+  throw Error("cannot read '" + path + "': " + what);
+}
+
+// O_EXCL: never write through a file (or symlink) someone else put at the temporary name.
+void writeNewFile(const std::string& target, const std::string& file_path, const std::string& bytes)
+{
+  const int fd = ::open(file_path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0)
+    failWrite(target, std::strerror(errno));
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t written = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (written < 0 && errno == EINTR)
+      continue;
+    if (written <= 0) {
+      const int saved = errno;
+      ::close(fd);
+      failWrite(target, written < 0 ? std::strerror(saved) : "short write");
+    }
+    done += static_cast<std::size_t>(written);
+  }
+  if (::fsync(fd) != 0) {
+    const int saved = errno;
+    ::close(fd);
+    failWrite(target, std::strerror(saved));
+  }
+  if (::close(fd) != 0)
+    failWrite(target, std::strerror(errno));
+}
+
+}  // namespace
+
+void writeFileAtomically(const std::string& path, const std::function<void(const std::string&)>& write_temporary)
+{
   const fs::path target(path);
   if (target.filename().empty())
-    throw Error("cannot write '" + path + "': not a file name");
-  const fs::path directory = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    failWrite(path, "not a file name");
   std::error_code ec;
+  const fs::path directory = target.has_parent_path() ? target.parent_path() : fs::path(".");
   if (!fs::is_directory(directory, ec))
-    throw Error("cannot write '" + path + "': directory '" + directory.string() + "' does not exist");
+    failWrite(path, "directory '" + directory.string() + "' does not exist");
   if (fs::is_directory(target, ec))
-    throw Error("cannot write '" + path + "': it is a directory");
-
-  static std::atomic<unsigned> counter{0};
-  const fs::path temporary = directory / ("." + target.filename().string() + ".tmp." +
-                                          std::to_string(::getpid()) + "." + std::to_string(counter++));
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out)
-      throw Error("cannot write '" + path + "': " + std::strerror(errno));
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) {
-      out.close();
-      fs::remove(temporary, ec);
-      throw Error("cannot write '" + path + "': write failed (disk full?)");
-    }
-  }
-  if (std::rename(temporary.c_str(), target.c_str()) != 0) {
-    const int error = errno;
+    failWrite(path, "it is a directory");
+  // Same directory as the target, so the rename cannot cross file systems; pid and counter keep
+  // concurrent writers (threads or processes) apart.
+  static std::atomic<unsigned long> counter{0};
+  const fs::path temporary = directory / ("." + target.filename().string() + ".tmp." + std::to_string(::getpid()) +
+                                          "." + std::to_string(counter++));
+  try {
+    write_temporary(temporary.string());
+    fs::rename(temporary, target, ec);
+    if (ec)
+      failWrite(path, ec.message());
+  } catch (const Error&) {
     fs::remove(temporary, ec);
-    throw Error("cannot write '" + path + "': " + std::strerror(error));
+    throw;
+  } catch (const std::exception& e) {
+    fs::remove(temporary, ec);
+    failWrite(path, e.what());
   }
+}
+
+void writeFileAtomically(const std::string& path, const std::string& bytes)
+{
+  writeFileAtomically(path, [&](const std::string& temporary) { writeNewFile(path, temporary, bytes); });
 }
 
 std::string readWholeFile(const std::string& path)
 {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw Error("cannot read '" + path + "': it is a directory");
+  const fs::file_status status = fs::status(path, ec);
+  if (!fs::exists(status))
+    failRead(path, "no such file");
+  if (fs::is_directory(status))
+    failRead(path, "is a directory");
+  // A FIFO or a device could block forever or never end.
+  if (!fs::is_regular_file(status))
+    failRead(path, "not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in)
-    throw Error("cannot open '" + path + "': " + std::strerror(errno));
+    failRead(path, std::strerror(errno));
   in.seekg(0, std::ios::end);
   const std::streamoff size = in.tellg();
-  if (size < 0)
-    throw Error("cannot read '" + path + "'");
-  std::string bytes(static_cast<std::size_t>(size), '\0');
   in.seekg(0, std::ios::beg);
-  in.read(bytes.data(), size);
-  if (!in)
-    throw Error("cannot read '" + path + "': read failed");
+  if (size < 0 || !in)
+    failRead(path, "cannot determine the file size");
+  std::string bytes(static_cast<std::size_t>(size), '\0');
+  if (size > 0 && !in.read(bytes.data(), size))
+    failRead(path, "read error");
   return bytes;
 }
 

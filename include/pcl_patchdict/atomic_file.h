@@ -2,16 +2,23 @@
 // into place only once everything was written, so an interrupted run never leaves a partial file.
 #pragma once
 
+#include <functional>
 #include <string>
 
 namespace pcl {
 namespace patchdict {
 
-/** Writes `bytes` to `path` atomically. Throws Error (one line) if the directory does not exist,
-  * is not writable, or the write fails; no temporary file is left behind in any case. */
+/** Writes `bytes` to `path` atomically (temporary file in the same directory, fsync, rename).
+  * Throws Error (one line) if the directory does not exist, the target is a directory, or a
+  * write fails; no temporary file is left behind in any case. */
 void writeFileAtomically(const std::string& path, const std::string& bytes);
 
-/** Whole file into memory. Throws Error for a missing file, a directory, or a read failure. */
+/** The same for writers that need a file name (e.g. PCL's): `write_temporary` must create and fill
+  * the file at the path it is given, or throw. */
+void writeFileAtomically(const std::string& path, const std::function<void(const std::string&)>& write_temporary);
+
+/** Whole file into memory. Throws Error ("cannot read 'path': reason") for a missing file, a
+  * directory, something that is not a regular file, or a read failure. */
 std::string readWholeFile(const std::string& path);
 
 }  // namespace patchdict

@@ -28,7 +28,9 @@ struct ReadInfo {
 /** \brief Read a mesh or cloud; the format comes from the extension.
   * Rejects (throws Error): missing/unreadable/empty files, truncated data, malformed records,
   * face indices out of range, non-finite vertex coordinates (PCD: NaN points are dropped instead,
-  * as depth sensors write them). A file without faces gives a mesh with no faces (a cloud). */
+  * as depth sensors write them), files without a single vertex. A file without faces gives a mesh
+  * with no faces (a cloud). Polygons are fan-triangulated; STL corners with bit-identical positions
+  * are merged into one vertex. Normals that are not all finite are dropped, not an error. */
 void readMesh(const std::string& path, TriangleMesh& mesh, ReadInfo* info = nullptr);
 
 struct WriteOptions {
@@ -39,9 +41,13 @@ struct WriteOptions {
 };
 
 /** \brief Write a mesh or cloud; the format comes from the extension.
-  * Text formats print coordinates in the shortest form that reads back to the same double,
-  * so every format round-trips exactly. The file is written to a temporary file in the target
-  * directory and renamed into place: it appears whole or not at all. Throws Error. */
+  * Text formats print coordinates in the shortest form that reads back to the same double, and
+  * binary PLY uses float32 only when no coordinate needs more, so PLY, OBJ, OFF and ASCII STL
+  * round-trip exactly. Binary STL and PCD store float32: exact only for float-representable
+  * coordinates. STL keeps triangles only (no faces: Error), PCD points only, OFF no normals.
+  * The file is written to a temporary file in the target directory and renamed into place: it
+  * appears whole or not at all. Throws Error, also for a mesh no reader would take back (no
+  * vertices, non-finite coordinates, face indices out of range). */
 void writeMesh(const std::string& path, const TriangleMesh& mesh, const WriteOptions& options = {});
 
 }  // namespace patchdict

@@ -11,8 +11,10 @@
 namespace pcl {
 namespace patchdict {
 
-/** Closest point to p on the triangle (a, b, c) — exact, degenerate triangles included
-  * (Ericson, "Real-Time Collision Detection", 5.1.5). */
+/** Closest point to p on the triangle (a, b, c) (Ericson, "Real-Time Collision Detection", 5.1.5).
+  * Degenerate triangles included: a zero-area one gives the exact closest point of its edges (a
+  * point triangle gives its point); a needle narrower than 1e-8 × its longest edge is treated as
+  * its edges (error below that width). */
 Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                                        const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
@@ -33,9 +35,10 @@ public:
   PointToMeshDistance(PointToMeshDistance&&) noexcept;
   PointToMeshDistance& operator=(PointToMeshDistance&&) noexcept;
 
-  /** Closest point on the mesh to p. */
+  /** Closest point on the mesh to p (throws Error for a non-finite p). */
   Result query(const Eigen::Vector3d& p) const;
-  /** Unsigned distances of all points (OpenMP-parallel). */
+  /** Unsigned distances of all points (OpenMP-parallel; same result for any thread count).
+    * Throws Error if a point is not finite. */
   std::vector<double> distances(const std::vector<Eigen::Vector3d>& points) const;
 
 private:
@@ -59,11 +62,15 @@ struct SurfaceDistance {
   std::size_t samples_per_side = 0;
 };
 
-/** Symmetric surface distance from num_samples area-uniform samples on each mesh (seeded). */
+/** Symmetric surface distance from num_samples area-uniform samples on each mesh (ref sampled
+  * with `seed`, out with `seed + 1`), each sample measured exactly against the other surface.
+  * Distances within 64 ulps of the largest coordinate magnitude are rounding noise and count as 0,
+  * so identical surfaces give exactly 0 and a PSNR of +inf. Throws Error if either mesh has no
+  * face of positive area or num_samples is 0. Deterministic for a given seed. */
 SurfaceDistance surfaceDistance(const TriangleMesh& ref, const TriangleMesh& out,
                                 std::size_t num_samples = 200000, std::uint64_t seed = 1);
 
-/** PSNR = 20·log10(peak / rms), +inf for rms = 0. */
+/** PSNR = 20·log10(peak / rms), +inf for rms = 0; throws Error for a negative or NaN argument. */
 double psnr(double peak, double rms);
 
 }  // namespace patchdict

@@ -1,0 +1,44 @@
+// Sparse coding of signals over a dictionary of unit-norm atoms: Batch-OMP (Rubinstein, Zibulevsky
+// & Elad 2008) with a precomputed Gram matrix, and masked OMP for signals with unobserved entries.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include <cstdint>
+#include <vector>
+
+namespace pcl {
+namespace patchdict {
+
+/** When to stop adding atoms: after max_atoms, or once the squared residual norm (over the
+  * observed entries) is at most max_squared_error — whichever comes first. */
+struct SparseCodingParameters {
+  int max_atoms = 8;
+  double max_squared_error = 0.0;
+};
+
+/** Codes of many signals: one column per signal, atoms as rows (K × P). */
+using SparseCodes = Eigen::SparseMatrix<double, Eigen::ColMajor, std::int64_t>;
+
+/** \brief Batch-OMP of every column of `signals` (n × P) over `dictionary` (n × K, unit columns),
+  * with gram = DᵀD precomputed once; parallel over signals. */
+SparseCodes batchOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& gram,
+                     const Eigen::MatrixXd& signals, const SparseCodingParameters& parameters);
+
+/** \brief Masked OMP: each signal is observed only where its mask column is true (n × P). Atoms are
+  * selected by correlation with their column-normalised masked versions and fitted by least squares
+  * on the observed rows; the code applies to the full dictionary, so D·code estimates the
+  * unobserved entries too. Signals sharing a mask share one masked Gram matrix. */
+SparseCodes maskedOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& signals,
+                      const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>& mask,
+                      const SparseCodingParameters& parameters);
+
+/** Single-signal Batch-OMP on Dᵀx = correlations, xᵀx = signal_squared_norm. Appends the chosen
+  * atoms and their coefficients. Exposed for the learners and the tests. */
+void batchOMPSingle(const Eigen::MatrixXd& gram, const Eigen::VectorXd& correlations, double signal_squared_norm,
+                    const SparseCodingParameters& parameters, std::vector<int>& atoms,
+                    std::vector<double>& coefficients);
+
+}  // namespace patchdict
+}  // namespace pcl

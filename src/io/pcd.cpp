@@ -1,0 +1,243 @@
+// PCD through PCL's own reader and writer (it is PCL's format). PCD stores x/y/z as float32: a
+// round trip is exact only for coordinates that are representable as float; others are rounded.
+// Clouds from depth sensors carry NaN points: they are dropped (and counted), not an error.
+
+#include "formats.h"
+
+#include <algorithm>
+#include <exception>
+#include <limits>
+#include <vector>
+
+#include <pcl/PolygonMesh.h>
+#include <pcl/console/print.h>
+#include <pcl/io/pcd_io.h>
+
+namespace pcl {
+namespace patchdict {
+namespace io_detail {
+
+namespace {
+
+// PCL reports failures on the console as well as in its return codes; we turn the codes into one
+// Error line, so its own messages would only be noise. (The level is process-wide state.)
+class QuietPcl {
+public:
+  QuietPcl() : saved_(pcl::console::getVerbosityLevel())
+  {
+    pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+  }
+  ~QuietPcl() { pcl::console::setVerbosityLevel(saved_); }
+  QuietPcl(const QuietPcl&) = delete;
+  QuietPcl& operator=(const QuietPcl&) = delete;
+
+private:
+  pcl::console::VERBOSITY_LEVEL saved_;
+};
+
+bool hasField(const pcl::PCLPointCloud2& cloud, const char* name)
+{
+  for (const auto& field : cloud.fields)
+    if (field.name == name)
+      return true;
+  return false;
+}
+
+std::uint32_t loadU32LE(const unsigned char* data)
+{
+  return static_cast<std::uint32_t>(data[0]) | (static_cast<std::uint32_t>(data[1]) << 8) |
+         (static_cast<std::uint32_t>(data[2]) << 16) | (static_cast<std::uint32_t>(data[3]) << 24);
+}
+
+// PCL's reader crashes on some malformed headers (e.g. one without FIELDS or POINTS) and reads
+// unparsable ascii values as 0, so the file is checked here first: a consistent header, a body of
+// the size it promises, and (ascii) every value a number, one point per line.
+void checkPcd(const std::string& path, std::string_view bytes)
+{
+  std::vector<std::string_view> fields, sizes, types, counts;
+  std::uint64_t width = 0, height = 1, points = 0;
+  bool have_width = false, have_points = false;
+  std::string_view data_kind;
+  std::size_t pos = 0, line_number = 0;
+  auto number = [&](std::string_view token, std::uint64_t& out) {
+    std::int64_t value = 0;
+    if (!parseInt(token, value) || value < 0)
+      failReadLine(path, line_number, "bad number " + quoted(token) + " in the PCD header");
+    out = static_cast<std::uint64_t>(value);
+  };
+  while (data_kind.empty()) {
+    if (pos >= bytes.size())
+      failRead(path, "not a valid PCD file (no DATA line)");
+    const std::size_t newline = bytes.find('\n', pos);
+    const std::size_t line_end = newline == std::string_view::npos ? bytes.size() : newline;
+    TextCursor cursor(bytes.substr(pos, line_end - pos), ++line_number, '#');
+    pos = line_end + 1;
+    std::string_view keyword, token;
+    if (!cursor.nextOnLine(keyword))
+      continue;
+    std::vector<std::string_view> values;
+    while (cursor.nextOnLine(token))
+      values.push_back(token);
+    if (keyword == "FIELDS" || keyword == "COLUMNS") fields = values;
+    else if (keyword == "SIZE") sizes = values;
+    else if (keyword == "TYPE") types = values;
+    else if (keyword == "COUNT") counts = values;
+    else if (keyword == "VERSION" || keyword == "VIEWPOINT") continue;
+    else if (keyword == "WIDTH" && values.size() == 1) { number(values[0], width); have_width = true; }
+    else if (keyword == "HEIGHT" && values.size() == 1) number(values[0], height);
+    else if (keyword == "POINTS" && values.size() == 1) { number(values[0], points); have_points = true; }
+    else if (keyword == "DATA" && values.size() == 1 &&
+             (values[0] == "ascii" || values[0] == "binary" || values[0] == "binary_compressed"))
+      data_kind = values[0];
+    else
+      failReadLine(path, line_number, "unexpected PCD header line starting with " + quoted(keyword));
+  }
+  if (fields.empty() || sizes.size() != fields.size() || types.size() != fields.size() ||
+      (!counts.empty() && counts.size() != fields.size()))
+    failRead(path, "PCD header: FIELDS, SIZE, TYPE and COUNT do not match");
+  std::uint64_t point_bytes = 0, values_per_point = 0;
+  for (std::size_t f = 0; f < fields.size(); ++f) {
+    std::uint64_t size = 0, count = 1;
+    number(sizes[f], size);
+    if (!counts.empty())
+      number(counts[f], count);
+    const bool valid_type = (types[f] == "F" && (size == 4 || size == 8)) ||
+                            ((types[f] == "I" || types[f] == "U") && (size == 1 || size == 2 || size == 4));
+    if (!valid_type || count == 0 || count > 1000000)
+      failRead(path, "PCD header: unsupported field " + quoted(fields[f]));
+    point_bytes += size * count;
+    values_per_point += count;
+  }
+  if (!have_width || (height != 0 && width > std::numeric_limits<std::uint32_t>::max() / height))
+    failRead(path, "PCD header: missing or bad WIDTH/HEIGHT");
+  if (have_points && points != width * height)
+    failRead(path, "PCD header: POINTS is not WIDTH x HEIGHT");
+  points = width * height;
+  if (points == 0)
+    failRead(path, "the PCD file holds no points");
+
+  const std::size_t remaining = pos < bytes.size() ? bytes.size() - pos : 0;
+  const auto* body = reinterpret_cast<const unsigned char*>(bytes.data()) + std::min(pos, bytes.size());
+  if (data_kind == "binary") {
+    if (points > remaining / point_bytes)
+      failRead(path, "truncated: " + std::to_string(points) + " points declared, " +
+                         std::to_string(remaining / point_bytes) + " present");
+  }
+  else if (data_kind == "binary_compressed") {
+    if (remaining < 8 || loadU32LE(body) > remaining - 8 || loadU32LE(body + 4) != points * point_bytes)
+      failRead(path, "truncated or corrupt compressed PCD data");
+  }
+  else {
+    TextCursor data(bytes.substr(std::min(pos, bytes.size())), line_number + 1);
+    std::string_view token;
+    for (std::uint64_t point = 0; point < points; ++point) {
+      std::uint64_t values = 0;
+      double value = 0.0;
+      // One point per line, blank lines skipped (as PCL reads it).
+      while (values == 0) {
+        if (data.atEnd())
+          failRead(path, "truncated: " + std::to_string(point) + " of " + std::to_string(points) + " points present");
+        for (; data.nextOnLine(token); ++values)
+          if (!parseDouble(token, value))
+            failReadLine(path, data.line(), "bad number " + quoted(token));
+        if (values == 0)
+          data.skipLine();
+      }
+      if (values != values_per_point)
+        failReadLine(path, data.line(), "a point has " + std::to_string(values) + " values, expected " +
+                                            std::to_string(values_per_point));
+      data.skipLine();
+    }
+  }
+}
+
+}  // namespace
+
+void readPcd(const std::string& path, std::string_view bytes, TriangleMesh& mesh, ReadInfo& info)
+{
+  checkPcd(path, bytes);
+  pcl::PolygonMesh wrapper;  // a cloud without polygons, so that fromPolygonMesh can decode it
+  pcl::PCDReader reader;
+  Eigen::Vector4f origin;
+  Eigen::Quaternionf orientation;
+  int version = 0, data_type = 0;
+  unsigned int data_offset = 0;
+  try {
+    QuietPcl quiet;
+    if (reader.readHeader(path, wrapper.cloud, origin, orientation, version, data_type, data_offset) < 0)
+      failRead(path, "not a valid PCD file (bad header)");
+    if (reader.read(path, wrapper.cloud) < 0)
+      failRead(path, "not a valid PCD file (bad or truncated data)");
+  }
+  catch (const Error&) {
+    throw;
+  }
+  catch (const std::exception&) {
+    failRead(path, "not a valid PCD file");
+  }
+  if (!hasField(wrapper.cloud, "x") || !hasField(wrapper.cloud, "y") || !hasField(wrapper.cloud, "z"))
+    failRead(path, "the PCD file has no x/y/z fields");
+
+  TriangleMesh all;
+  try {
+    fromPolygonMesh(wrapper, all);
+  }
+  catch (const Error& e) {
+    failRead(path, e.what());
+  }
+  TriangleMesh result;
+  result.vertices.reserve(all.vertices.size());
+  if (all.hasNormals())
+    result.normals.reserve(all.vertices.size());
+  for (std::size_t i = 0; i < all.vertices.size(); ++i) {
+    if (!all.vertices[i].allFinite()) {
+      ++info.points_dropped;
+      continue;
+    }
+    result.vertices.push_back(all.vertices[i]);
+    if (all.hasNormals())
+      result.normals.push_back(all.normals[i]);
+  }
+  // Normals are optional, derived data (PCL marks unknown ones NaN): keep them only if all are usable.
+  for (const Eigen::Vector3d& n : result.normals)
+    if (!n.allFinite()) {
+      result.normals.clear();
+      break;
+    }
+  if (result.vertices.empty() && info.points_dropped > 0)
+    failRead(path, "all " + std::to_string(info.points_dropped) + " points are non-finite");
+  info.binary = data_type != 0;
+  mesh = std::move(result);
+}
+
+void writePcd(const std::string& target, const std::string& file_path, const TriangleMesh& mesh,
+              const WriteOptions& options)
+{
+  pcl::PolygonMesh wrapper;
+  if (mesh.hasNormals() && !options.write_normals) {
+    TriangleMesh positions_only;
+    positions_only.vertices = mesh.vertices;
+    toPolygonMesh(positions_only, wrapper);
+  }
+  else {
+    toPolygonMesh(mesh, wrapper);
+  }
+  pcl::PCDWriter writer;
+  int status = -1;
+  try {
+    QuietPcl quiet;
+    // 9 significant digits read back to the same float32 (PCL's default of 8 does not).
+    status = options.binary ? writer.writeBinary(file_path, wrapper.cloud)
+                            : writer.writeASCII(file_path, wrapper.cloud, Eigen::Vector4f::Zero(),
+                                                Eigen::Quaternionf::Identity(), 9);
+  }
+  catch (const std::exception&) {
+    status = -1;
+  }
+  if (status < 0)
+    throw Error("cannot write '" + target + "': PCL failed to write the PCD file");
+}
+
+}  // namespace io_detail
+}  // namespace patchdict
+}  // namespace pcl
