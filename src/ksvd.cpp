@@ -37,13 +37,15 @@ Eigen::MatrixXd learnKSVD(const Eigen::MatrixXd& signals, const ObservationMask&
   if (report)
     *report = LearningReport();
   const double observed_total = masked ? static_cast<double>(mask.count()) : static_cast<double>(signals.size());
+  // The mask as 0/1 doubles: the masked updates become vectorised products.
+  const Eigen::MatrixXd observed = masked ? Eigen::MatrixXd(mask.cast<double>()) : Eigen::MatrixXd();
 
   for (int iteration = 0; iteration < parameters.iterations; ++iteration) {
     const SparseCodes codes = detail::codeSignals(dictionary, signals, mask, parameters.sparsity);
     // Residual over the observed entries, kept up to date through the atom updates.
     Eigen::MatrixXd residual = signals - dictionary * codes;
     if (masked)
-      residual = mask.select(residual, 0.0);
+      residual = residual.cwiseProduct(observed);
     if (report)
       report->rmse_per_iteration.push_back(std::sqrt(residual.squaredNorm() / std::max(observed_total, 1.0)));
 
@@ -80,7 +82,7 @@ Eigen::MatrixXd learnKSVD(const Eigen::MatrixXd& signals, const ObservationMask&
       // E_R = residual of the users with atom k's own contribution added back.
       for (const Use& use : list) {
         if (masked)
-          residual.col(use.signal) += use.coefficient * mask.col(use.signal).select(dictionary.col(k), 0.0);
+          residual.col(use.signal) += use.coefficient * dictionary.col(k).cwiseProduct(observed.col(use.signal));
         else
           residual.col(use.signal) += use.coefficient * dictionary.col(k);
       }
@@ -93,9 +95,7 @@ Eigen::MatrixXd learnKSVD(const Eigen::MatrixXd& signals, const ObservationMask&
         Eigen::VectorXd weight = Eigen::VectorXd::Zero(n);
         for (const Use& use : list) {
           atom += use.coefficient * residual.col(use.signal);
-          for (Eigen::Index r = 0; r < n; ++r)
-            if (mask(r, use.signal))
-              weight[r] += use.coefficient * use.coefficient;
+          weight += (use.coefficient * use.coefficient) * observed.col(use.signal);
         }
         for (Eigen::Index r = 0; r < n; ++r)
           atom[r] = weight[r] > 0.0 ? atom[r] / weight[r] : dictionary(r, k);
@@ -112,10 +112,10 @@ Eigen::MatrixXd learnKSVD(const Eigen::MatrixXd& signals, const ObservationMask&
           use.coefficient = column.dot(atom);
           column -= use.coefficient * atom;
         } else {
-          const Eigen::VectorXd visible = mask.col(use.signal).select(atom, 0.0);
-          const double energy = visible.squaredNorm();
-          use.coefficient = energy > 1e-12 ? column.dot(visible) / energy : 0.0;
-          column -= use.coefficient * visible;
+          // The residual is zero where unobserved, so column·atom only sums observed rows.
+          const double energy = atom.cwiseAbs2().dot(observed.col(use.signal));
+          use.coefficient = energy > 1e-12 ? column.dot(atom) / energy : 0.0;
+          column -= use.coefficient * atom.cwiseProduct(observed.col(use.signal));
         }
       }
       dictionary.col(k) = atom;

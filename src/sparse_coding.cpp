@@ -23,25 +23,67 @@ struct FullGram {
   const double* column(int k) { return gram.col(k).data(); }
 };
 
-// Gram columns computed when an atom is chosen: for signals whose mask nobody else shares, this
-// costs S·n·K instead of n·K² for the whole masked Gram matrix.
-struct LazyGram {
-  const Eigen::MatrixXd& atoms;  // n_observed × K, normalised columns
-  Eigen::MatrixXd cache;         // K × S
+// Masked Gram columns computed only when an atom is chosen — for a signal whose mask nobody else
+// shares this costs S·n·K at most, where the whole masked Gram matrix would cost n·K². Column k of
+// the normalised masked Gram is s ⊙ Dᵀ(m ⊙ d_k) · s_k (s: inverse masked atom norms); with few
+// hidden rows U it is cheaper as s ⊙ (G_k − Σ_{r∈U} D_rk · D_r,:ᵀ) · s_k.
+struct LazyMaskedGram {
+  const Eigen::MatrixXd& dictionary;    // n × K
+  const Eigen::MatrixXd& dictionary_t;  // K × n
+  const Eigen::MatrixXd& gram;          // DᵀD of the full dictionary
+  const std::vector<Eigen::Index>& hidden_rows;
+  const Eigen::VectorXd& observed;      // the mask as 0/1
+  const Eigen::VectorXd& inverse_norms;
+  Eigen::MatrixXd cache;                // K × S
+  Eigen::VectorXd masked_atom;
   int used = 0;
-  LazyGram(const Eigen::MatrixXd& a, int max_atoms) : atoms(a), cache(a.cols(), max_atoms) {}
+  LazyMaskedGram(const Eigen::MatrixXd& d, const Eigen::MatrixXd& dt, const Eigen::MatrixXd& g,
+                 const std::vector<Eigen::Index>& hidden, const Eigen::VectorXd& m, const Eigen::VectorXd& s,
+                 int max_atoms)
+      : dictionary(d), dictionary_t(dt), gram(g), hidden_rows(hidden), observed(m), inverse_norms(s),
+        cache(d.cols(), max_atoms)
+  {
+  }
   const double* column(int k)
   {
-    cache.col(used).noalias() = atoms.transpose() * atoms.col(k);
+    auto out = cache.col(used);
+    if (2 * hidden_rows.size() < static_cast<std::size_t>(dictionary.rows())) {
+      out = gram.col(k);
+      for (const Eigen::Index r : hidden_rows)
+        out -= dictionary(r, k) * dictionary_t.col(r);
+    } else {
+      masked_atom = observed.cwiseProduct(dictionary.col(k));
+      out.noalias() = dictionary_t * masked_atom;
+    }
+    out = out.cwiseProduct(inverse_norms) * inverse_norms[k];
     return cache.col(used++).data();
+  }
+};
+
+// Buffers of one thread, reused across signals: allocation would otherwise cost as much as the
+// arithmetic for small sparsities.
+struct Workspace {
+  Eigen::MatrixXd lower;          // Cholesky factor of G_II (S × S)
+  Eigen::MatrixXd gram_selected;  // G_{:,I} (K × S)
+  Eigen::VectorXd alpha, gamma, beta, rhs, w;
+  std::vector<char> selected;
+  void reserve(Eigen::Index num_atoms, int max_atoms)
+  {
+    if (lower.rows() < max_atoms)
+      lower.resize(max_atoms, max_atoms);
+    if (gram_selected.rows() != num_atoms || gram_selected.cols() < max_atoms)
+      gram_selected.resize(num_atoms, max_atoms);
+    if (selected.size() != static_cast<std::size_t>(num_atoms))
+      selected.assign(static_cast<std::size_t>(num_atoms), 0);
+    rhs.resize(max_atoms);
   }
 };
 
 // The Batch-OMP iteration (Rubinstein et al. 2008, Algorithm 5), with error and sparsity stopping.
 // `usable` excludes atoms (masked atoms with no energy on the observed rows).
 template <typename Gram>
-void ompKernel(Gram& gram, const Eigen::VectorXd& alpha0, double signal_squared_norm,
-               const SparseCodingParameters& parameters, const std::vector<char>* usable,
+void ompKernel(Gram& gram, const Eigen::Ref<const Eigen::VectorXd>& alpha0, double signal_squared_norm,
+               const SparseCodingParameters& parameters, const std::vector<char>* usable, Workspace& work,
                std::vector<int>& atoms, std::vector<double>& coefficients)
 {
   const int num_atoms = static_cast<int>(alpha0.size());
@@ -50,11 +92,11 @@ void ompKernel(Gram& gram, const Eigen::VectorXd& alpha0, double signal_squared_
   coefficients.clear();
   if (max_atoms <= 0)
     return;
+  work.reserve(num_atoms, max_atoms);
   const bool error_stop = parameters.max_squared_error > 0.0;
-  Eigen::MatrixXd lower = Eigen::MatrixXd::Zero(max_atoms, max_atoms);  // Cholesky factor of G_II
-  Eigen::MatrixXd gram_selected(num_atoms, max_atoms);                   // G_{:,I}
-  Eigen::VectorXd alpha = alpha0, gamma, beta, rhs(max_atoms);
-  std::vector<char> selected(num_atoms, 0);
+  auto& lower = work.lower;
+  auto& selected = work.selected;
+  work.alpha = alpha0;
   double residual = signal_squared_norm, delta_previous = 0.0;
   // Correlations this small are round-off of an already exact fit.
   const double tiny = 1e-12 * std::sqrt(std::max(signal_squared_norm, 1e-300));
@@ -67,7 +109,7 @@ void ompKernel(Gram& gram, const Eigen::VectorXd& alpha0, double signal_squared_
     for (int k = 0; k < num_atoms; ++k) {
       if (selected[k] || (usable && !(*usable)[k]))
         continue;
-      const double value = std::abs(alpha[k]);
+      const double value = std::abs(work.alpha[k]);
       if (value > best_value) {
         best_value = value;
         best = k;
@@ -79,38 +121,39 @@ void ompKernel(Gram& gram, const Eigen::VectorXd& alpha0, double signal_squared_
     if (n == 0) {
       lower(0, 0) = std::sqrt(column[best]);
     } else {
-      Eigen::VectorXd w(n);
+      work.w.resize(n);
       for (int i = 0; i < n; ++i)
-        w[i] = column[atoms[i]];
-      lower.topLeftCorner(n, n).triangularView<Eigen::Lower>().solveInPlace(w);
-      const double diagonal = column[best] - w.squaredNorm();
+        work.w[i] = column[atoms[i]];
+      lower.topLeftCorner(n, n).triangularView<Eigen::Lower>().solveInPlace(work.w);
+      const double diagonal = column[best] - work.w.squaredNorm();
       if (diagonal <= 1e-10)  // the atom is (numerically) in the span of those chosen: stop
         break;
-      lower.row(n).head(n) = w.transpose();
+      lower.row(n).head(n) = work.w.transpose();
       lower(n, n) = std::sqrt(diagonal);
     }
     atoms.push_back(best);
     selected[best] = 1;
-    gram_selected.col(n) = Eigen::Map<const Eigen::VectorXd>(column, num_atoms);
+    work.gram_selected.col(n) = Eigen::Map<const Eigen::VectorXd>(column, num_atoms);
     const int size = n + 1;
     for (int i = 0; i < size; ++i)
-      rhs[i] = alpha0[atoms[i]];
-    gamma = rhs.head(size);
+      work.rhs[i] = alpha0[atoms[i]];
+    work.gamma = work.rhs.head(size);
     const auto factor = lower.topLeftCorner(size, size);
-    factor.triangularView<Eigen::Lower>().solveInPlace(gamma);
-    factor.transpose().triangularView<Eigen::Upper>().solveInPlace(gamma);
-    beta.noalias() = gram_selected.leftCols(size) * gamma;
-    alpha = alpha0 - beta;
+    factor.triangularView<Eigen::Lower>().solveInPlace(work.gamma);
+    factor.transpose().triangularView<Eigen::Upper>().solveInPlace(work.gamma);
+    work.beta.noalias() = work.gram_selected.leftCols(size) * work.gamma;
+    work.alpha = alpha0 - work.beta;
     if (error_stop) {
       double delta = 0.0;
       for (int i = 0; i < size; ++i)
-        delta += gamma[i] * beta[atoms[i]];
+        delta += work.gamma[i] * work.beta[atoms[i]];
       residual = residual - delta + delta_previous;
       delta_previous = delta;
     }
   }
-  coefficients.assign(gamma.data(), gamma.data() + gamma.size());
-  coefficients.resize(atoms.size());
+  for (const int k : atoms)
+    selected[k] = 0;
+  coefficients.assign(work.gamma.data(), work.gamma.data() + std::min<Eigen::Index>(work.gamma.size(), static_cast<Eigen::Index>(atoms.size())));
 }
 
 void checkParameters(const SparseCodingParameters& parameters)
@@ -149,7 +192,8 @@ void batchOMPSingle(const Eigen::MatrixXd& gram, const Eigen::VectorXd& correlat
 {
   checkParameters(parameters);
   FullGram access{gram};
-  ompKernel(access, correlations, signal_squared_norm, parameters, nullptr, atoms, coefficients);
+  Workspace work;
+  ompKernel(access, correlations, signal_squared_norm, parameters, nullptr, work, atoms, coefficients);
 }
 
 SparseCodes batchOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& gram, const Eigen::MatrixXd& signals,
@@ -166,15 +210,20 @@ SparseCodes batchOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& g
   std::vector<std::vector<double>> coefficients(static_cast<std::size_t>(count));
   // Correlations Dᵀx in blocks: one GEMM per block instead of one GEMV per signal.
   constexpr Eigen::Index block = 1024;
+  Eigen::MatrixXd correlations;
   for (Eigen::Index start = 0; start < count; start += block) {
     const Eigen::Index size = std::min(block, count - start);
-    const Eigen::MatrixXd correlations = dictionary.transpose() * signals.middleCols(start, size);
-#pragma omp parallel for schedule(dynamic, 16)
-    for (Eigen::Index i = 0; i < size; ++i) {
-      const Eigen::Index p = start + i;
+    correlations.noalias() = dictionary.transpose() * signals.middleCols(start, size);
+#pragma omp parallel
+    {
+      Workspace work;
       FullGram access{gram};
-      ompKernel(access, correlations.col(i), signals.col(p).squaredNorm(), parameters, nullptr,
-                atoms[static_cast<std::size_t>(p)], coefficients[static_cast<std::size_t>(p)]);
+#pragma omp for schedule(dynamic, 16)
+      for (Eigen::Index i = 0; i < size; ++i) {
+        const Eigen::Index p = start + i;
+        ompKernel(access, correlations.col(i), signals.col(p).squaredNorm(), parameters, nullptr, work,
+                  atoms[static_cast<std::size_t>(p)], coefficients[static_cast<std::size_t>(p)]);
+      }
     }
   }
   return assemble(dictionary.cols(), atoms, coefficients);
@@ -187,73 +236,121 @@ SparseCodes maskedOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& 
   checkParameters(parameters);
   if (signals.rows() != dictionary.rows() || mask.rows() != signals.rows() || mask.cols() != signals.cols())
     throw Error("masked sparse coding: signals, mask and dictionary sizes do not match");
-  const Eigen::Index count = signals.cols(), num_atoms = dictionary.cols();
+  const Eigen::Index count = signals.cols(), num_atoms = dictionary.cols(), n = dictionary.rows();
   const int max_atoms = std::min<int>(parameters.max_atoms, static_cast<int>(num_atoms));
+  std::vector<std::vector<int>> atoms(static_cast<std::size_t>(count));
+  std::vector<std::vector<double>> coefficients(static_cast<std::size_t>(count));
+  const Eigen::MatrixXd dictionary_t = dictionary.transpose();
 
-  // Group signals by mask; a group large enough to pay for n·K² shares one masked Gram matrix.
+  // Signals that share a mask with enough others share one normalised masked Gram matrix.
   std::map<std::vector<bool>, std::vector<Eigen::Index>> groups;
   for (Eigen::Index p = 0; p < count; ++p) {
-    std::vector<bool> key(static_cast<std::size_t>(mask.rows()));
-    for (Eigen::Index r = 0; r < mask.rows(); ++r)
+    std::vector<bool> key(static_cast<std::size_t>(n));
+    for (Eigen::Index r = 0; r < n; ++r)
       key[static_cast<std::size_t>(r)] = mask(r, p);
     groups[std::move(key)].push_back(p);
   }
-  std::vector<const std::vector<bool>*> keys;
-  std::vector<const std::vector<Eigen::Index>*> members;
+  const auto shared_gram_threshold = static_cast<std::size_t>(std::max<Eigen::Index>(2, num_atoms / std::max(1, max_atoms)));
+  std::vector<const std::vector<Eigen::Index>*> shared_groups;
+  std::vector<Eigen::Index> singles;
   for (const auto& [key, list] : groups) {
-    keys.push_back(&key);
-    members.push_back(&list);
+    if (list.size() >= shared_gram_threshold)
+      shared_groups.push_back(&list);
+    else
+      singles.insert(singles.end(), list.begin(), list.end());
   }
+  std::sort(singles.begin(), singles.end());
 
-  std::vector<std::vector<int>> atoms(static_cast<std::size_t>(count));
-  std::vector<std::vector<double>> coefficients(static_cast<std::size_t>(count));
-  const Eigen::Index shared_gram_threshold = std::max<Eigen::Index>(2, num_atoms / std::max(1, max_atoms));
-
-#pragma omp parallel for schedule(dynamic, 1)
-  for (std::ptrdiff_t g = 0; g < static_cast<std::ptrdiff_t>(keys.size()); ++g) {
-    const std::vector<bool>& key = *keys[g];
-    std::vector<Eigen::Index> rows;
-    for (std::size_t r = 0; r < key.size(); ++r)
-      if (key[r])
-        rows.push_back(static_cast<Eigen::Index>(r));
-    if (rows.empty())
-      continue;  // nothing observed: the code stays empty
-    const auto observed_count = static_cast<Eigen::Index>(rows.size());
-    Eigen::MatrixXd masked(observed_count, num_atoms);
-    for (Eigen::Index i = 0; i < observed_count; ++i)
-      masked.row(i) = dictionary.row(rows[i]);
-    // Column-normalise so that selection compares directions, not the atoms' leftover energy.
-    Eigen::VectorXd norms = masked.colwise().norm();
-    std::vector<char> usable(static_cast<std::size_t>(num_atoms), 1);
-    for (Eigen::Index k = 0; k < num_atoms; ++k) {
-      if (norms[k] > 1e-8) {
-        masked.col(k) /= norms[k];
-      } else {
-        usable[static_cast<std::size_t>(k)] = 0;
-        masked.col(k).setZero();
+  // Shared masks: gather the observed rows once per group.
+#pragma omp parallel
+  {
+    Workspace work;
+    Eigen::MatrixXd masked_t, gram;
+    Eigen::VectorXd observed, correlations, norms, inverse(num_atoms);
+    std::vector<char> usable;
+#pragma omp for schedule(dynamic, 1)
+    for (std::ptrdiff_t g = 0; g < static_cast<std::ptrdiff_t>(shared_groups.size()); ++g) {
+      const auto& list = *shared_groups[static_cast<std::size_t>(g)];
+      std::vector<Eigen::Index> rows;
+      for (Eigen::Index r = 0; r < n; ++r)
+        if (mask(r, list.front()))
+          rows.push_back(r);
+      if (rows.empty())
+        continue;  // nothing observed: the codes stay empty
+      const auto observed_count = static_cast<Eigen::Index>(rows.size());
+      masked_t.resize(num_atoms, observed_count);  // (M·D)ᵀ
+      for (Eigen::Index i = 0; i < observed_count; ++i)
+        masked_t.col(i) = dictionary_t.col(rows[i]);
+      // Column-normalise the masked atoms so that selection compares directions, not the energy
+      // each atom happens to keep on the observed rows.
+      norms = masked_t.rowwise().norm();
+      usable.assign(static_cast<std::size_t>(num_atoms), 1);
+      for (Eigen::Index k = 0; k < num_atoms; ++k) {
+        usable[static_cast<std::size_t>(k)] = norms[k] > 1e-8;
+        inverse[k] = norms[k] > 1e-8 ? 1.0 / norms[k] : 0.0;
+      }
+      gram.noalias() = masked_t * masked_t.transpose();
+      gram = inverse.asDiagonal() * gram * inverse.asDiagonal();
+      observed.resize(observed_count);
+      FullGram access{gram};
+      for (const Eigen::Index p : list) {
+        for (Eigen::Index i = 0; i < observed_count; ++i)
+          observed[i] = signals(rows[i], p);
+        correlations.noalias() = masked_t * observed;
+        correlations = correlations.cwiseProduct(inverse);
+        auto& chosen = atoms[static_cast<std::size_t>(p)];
+        auto& values = coefficients[static_cast<std::size_t>(p)];
+        ompKernel(access, correlations, observed.squaredNorm(), parameters, &usable, work, chosen, values);
+        for (std::size_t i = 0; i < chosen.size(); ++i)  // back to the un-normalised atoms
+          values[i] *= inverse[chosen[i]];
       }
     }
-    const auto& list = *members[g];
-    Eigen::MatrixXd gram;
-    const bool shared = static_cast<Eigen::Index>(list.size()) >= shared_gram_threshold;
-    if (shared)
-      gram.noalias() = masked.transpose() * masked;
-    Eigen::VectorXd observed(observed_count);
-    for (const Eigen::Index p : list) {
-      for (Eigen::Index i = 0; i < observed_count; ++i)
-        observed[i] = signals(rows[i], p);
-      const Eigen::VectorXd correlations = masked.transpose() * observed;
-      auto& chosen = atoms[static_cast<std::size_t>(p)];
-      auto& values = coefficients[static_cast<std::size_t>(p)];
-      if (shared) {
-        FullGram access{gram};
-        ompKernel(access, correlations, observed.squaredNorm(), parameters, &usable, chosen, values);
-      } else {
-        LazyGram access(masked, std::max(1, max_atoms));
-        ompKernel(access, correlations, observed.squaredNorm(), parameters, &usable, chosen, values);
+  }
+
+  // Masks of their own: correlations Dᵀ(m ⊙ x) and masked norms² (D ⊙ D)ᵀm for a block of signals
+  // by two GEMMs, then Gram columns on demand.
+  const Eigen::MatrixXd squared_t = dictionary_t.cwiseAbs2();
+  const Eigen::MatrixXd full_gram = singles.empty() ? Eigen::MatrixXd() : Eigen::MatrixXd(dictionary_t * dictionary);
+  constexpr std::size_t block = 1024;
+  Eigen::MatrixXd block_signals, block_masks, correlations, squared_norms;
+  for (std::size_t start = 0; start < singles.size(); start += block) {
+    const auto size = static_cast<Eigen::Index>(std::min(block, singles.size() - start));
+    block_signals.resize(n, size);
+    block_masks.resize(n, size);
+    for (Eigen::Index i = 0; i < size; ++i) {
+      const Eigen::Index p = singles[start + static_cast<std::size_t>(i)];
+      block_masks.col(i) = mask.col(p).cast<double>();
+      block_signals.col(i) = signals.col(p).cwiseProduct(block_masks.col(i));
+    }
+    correlations.noalias() = dictionary_t * block_signals;
+    squared_norms.noalias() = squared_t * block_masks;
+#pragma omp parallel
+    {
+      Workspace work;
+      Eigen::VectorXd inverse(num_atoms), observed, alpha0;
+      std::vector<char> usable(static_cast<std::size_t>(num_atoms));
+      std::vector<Eigen::Index> hidden;
+#pragma omp for schedule(dynamic, 16)
+      for (Eigen::Index i = 0; i < size; ++i) {
+        const Eigen::Index p = singles[start + static_cast<std::size_t>(i)];
+        for (Eigen::Index k = 0; k < num_atoms; ++k) {
+          const double norm = std::sqrt(std::max(squared_norms(k, i), 0.0));
+          usable[static_cast<std::size_t>(k)] = norm > 1e-8;
+          inverse[k] = norm > 1e-8 ? 1.0 / norm : 0.0;
+        }
+        observed = block_masks.col(i);
+        hidden.clear();
+        for (Eigen::Index r = 0; r < n; ++r)
+          if (observed[r] == 0.0)
+            hidden.push_back(r);
+        alpha0 = correlations.col(i).cwiseProduct(inverse);
+        LazyMaskedGram access(dictionary, dictionary_t, full_gram, hidden, observed, inverse, std::max(1, max_atoms));
+        auto& chosen = atoms[static_cast<std::size_t>(p)];
+        auto& values = coefficients[static_cast<std::size_t>(p)];
+        ompKernel(access, alpha0, block_signals.col(i).squaredNorm(), parameters, &usable, work, chosen, values);
+        for (std::size_t j = 0; j < chosen.size(); ++j)
+          values[j] *= inverse[chosen[j]];
       }
-      for (std::size_t i = 0; i < chosen.size(); ++i)  // back to the un-normalised atoms
-        values[i] /= norms[chosen[i]];
     }
   }
   return assemble(num_atoms, atoms, coefficients);
