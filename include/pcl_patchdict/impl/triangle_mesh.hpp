@@ -4,7 +4,6 @@
 #include <cmath>
 #include <type_traits>
 
-#include <pcl/point_traits.h>
 #include <pcl/point_types.h>
 
 namespace pcl {
