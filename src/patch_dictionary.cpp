@@ -105,11 +105,7 @@ LearningReport PatchDictionary::learn(const Eigen::MatrixXd& patches, const Obse
   if (sparsity_ < 1 || iterations_ < 1 || batch_size_ < 1)
     throw Error("sparsity, iterations and batch size must be at least 1");
   const ObservationMask* mask_pointer = mask.size() ? &mask : nullptr;
-  Eigen::MatrixXd centred = patches;
-  if (remove_mean_) {
-    const Eigen::VectorXd means = patchMeans(patches, mask_pointer);
-    centred.rowwise() -= means.transpose();
-  }
+  const Eigen::MatrixXd training = centred(patches, patchMeans(patches, mask_pointer));
   LearningReport report;
   if (method_ == LearningMethod::KSVD) {
     KSVDParameters parameters;
@@ -117,7 +113,7 @@ LearningReport PatchDictionary::learn(const Eigen::MatrixXd& patches, const Obse
     parameters.sparsity = sparsity_;
     parameters.iterations = iterations_;
     parameters.seed = seed_;
-    atoms_ = learnKSVD(centred, mask, parameters, &report);
+    atoms_ = learnKSVD(training, mask, parameters, &report);
   } else {
     OnlineLearningParameters parameters;
     parameters.num_atoms = num_atoms_;
@@ -125,7 +121,7 @@ LearningReport PatchDictionary::learn(const Eigen::MatrixXd& patches, const Obse
     parameters.batch_size = batch_size_;
     parameters.seed = seed_;
     OnlineDictionaryLearner learner(parameters);
-    learner.fit(centred, mask, iterations_);
+    learner.fit(training, mask, iterations_);
     atoms_ = learner.dictionary();
   }
   grid_size_ = grid;
@@ -158,13 +154,7 @@ PatchCodes PatchDictionary::encode(const Eigen::MatrixXd& patches, const SparseC
   checkPatches(patches);
   PatchCodes codes;
   codes.means = patchMeans(patches, nullptr);
-  if (remove_mean_) {
-    Eigen::MatrixXd centred = patches;
-    centred.rowwise() -= codes.means.transpose();
-    codes.coefficients = batchOMP(atoms_, gram_, centred, parameters);
-  } else {
-    codes.coefficients = batchOMP(atoms_, gram_, patches, parameters);
-  }
+  codes.coefficients = batchOMP(atoms_, gram_, centred(patches, codes.means), parameters);
   return codes;
 }
 
@@ -176,14 +166,16 @@ PatchCodes PatchDictionary::encodeMasked(const Eigen::MatrixXd& patches, const O
     throw Error("the mask does not match the patches");
   PatchCodes codes;
   codes.means = patchMeans(patches, &mask);
-  if (remove_mean_) {
-    Eigen::MatrixXd centred = patches;
-    centred.rowwise() -= codes.means.transpose();
-    codes.coefficients = maskedOMP(atoms_, centred, mask, parameters);
-  } else {
-    codes.coefficients = maskedOMP(atoms_, patches, mask, parameters);
-  }
+  codes.coefficients = maskedOMP(atoms_, centred(patches, codes.means), mask, parameters);
   return codes;
+}
+
+Eigen::MatrixXd PatchDictionary::centred(const Eigen::MatrixXd& patches, const Eigen::VectorXd& means) const
+{
+  Eigen::MatrixXd result = patches;
+  if (remove_mean_)
+    result.rowwise() -= means.transpose();
+  return result;
 }
 
 Eigen::MatrixXd PatchDictionary::decode(const PatchCodes& codes) const

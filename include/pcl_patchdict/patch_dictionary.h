@@ -84,6 +84,8 @@ private:
   void requireAtoms() const;
   void checkPatches(const Eigen::MatrixXd& patches) const;
   Eigen::VectorXd patchMeans(const Eigen::MatrixXd& patches, const ObservationMask* mask) const;
+  /** The patches less their means when the mean is removed, else as they are. */
+  Eigen::MatrixXd centred(const Eigen::MatrixXd& patches, const Eigen::VectorXd& means) const;
 
   int num_atoms_ = 100;
   int sparsity_ = 8;

@@ -57,6 +57,8 @@ bool parseInt(std::string_view token, std::int64_t& value);
 /** Appends the shortest text that reads back to exactly `value`. */
 void appendNumber(std::string& out, double value);
 void appendNumber(std::string& out, float value);
+/** "x y z" in the same shortest round-trip form, then `end` (e.g. '\n'). */
+void appendVector(std::string& out, const Eigen::Vector3d& v, char end = '\n');
 
 /** True if the double survives a trip through float unchanged (and is finite). */
 bool isFloatExact(double value);
@@ -80,6 +82,9 @@ public:
   std::size_t remaining() const { return static_cast<std::size_t>(end_ - pos_); }
 
 private:
+  /** The token starting at pos_ (which is not blank, not a line break). */
+  std::string_view takeToken();
+
   const char* pos_;
   const char* end_;
   std::size_t line_;

@@ -117,6 +117,16 @@ void appendNumber(std::string& out, double value)
   out.append(buffer, result.ptr);
 }
 
+void appendVector(std::string& out, const Eigen::Vector3d& v, char end)
+{
+  appendNumber(out, v.x());
+  out += ' ';
+  appendNumber(out, v.y());
+  out += ' ';
+  appendNumber(out, v.z());
+  out += end;
+}
+
 void appendNumber(std::string& out, float value)
 {
   char buffer[64];
@@ -152,11 +162,16 @@ bool TextCursor::next(std::string_view& token)
   }
   if (pos_ == end_)
     return false;
+  token = takeToken();
+  return true;
+}
+
+std::string_view TextCursor::takeToken()
+{
   const char* start = pos_;
   while (pos_ != end_ && !isBlank(*pos_) && *pos_ != '\n' && !(comment_ != 0 && *pos_ == comment_))
     ++pos_;
-  token = std::string_view(start, static_cast<std::size_t>(pos_ - start));
-  return true;
+  return std::string_view(start, static_cast<std::size_t>(pos_ - start));
 }
 
 bool TextCursor::nextOnLine(std::string_view& token)
@@ -168,10 +183,7 @@ bool TextCursor::nextOnLine(std::string_view& token)
       ++pos_;
   if (pos_ == end_ || *pos_ == '\n')
     return false;
-  const char* start = pos_;
-  while (pos_ != end_ && !isBlank(*pos_) && *pos_ != '\n' && !(comment_ != 0 && *pos_ == comment_))
-    ++pos_;
-  token = std::string_view(start, static_cast<std::size_t>(pos_ - start));
+  token = takeToken();
   return true;
 }
 

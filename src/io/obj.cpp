@@ -237,22 +237,12 @@ std::string writeObj(const TriangleMesh& mesh, const WriteOptions& options)
   out.reserve(mesh.vertices.size() * (with_normals ? 120 : 60) + mesh.faces.size() * 40);
   for (const Eigen::Vector3d& v : mesh.vertices) {
     out += "v ";
-    appendNumber(out, v.x());
-    out += ' ';
-    appendNumber(out, v.y());
-    out += ' ';
-    appendNumber(out, v.z());
-    out += '\n';
+    appendVector(out, v);
   }
   if (with_normals)
     for (const Eigen::Vector3d& n : mesh.normals) {
       out += "vn ";
-      appendNumber(out, n.x());
-      out += ' ';
-      appendNumber(out, n.y());
-      out += ' ';
-      appendNumber(out, n.z());
-      out += '\n';
+      appendVector(out, n);
     }
   for (const Face& face : mesh.faces) {
     out += 'f';

@@ -165,14 +165,8 @@ std::string writeOff(const TriangleMesh& mesh, const WriteOptions&)
   std::string out = "OFF\n# written by pcl_patchdict\n";
   out += std::to_string(mesh.vertices.size()) + " " + std::to_string(mesh.faces.size()) + " 0\n";
   out.reserve(out.size() + mesh.vertices.size() * 60 + mesh.faces.size() * 40);
-  for (const Eigen::Vector3d& v : mesh.vertices) {
-    appendNumber(out, v.x());
-    out += ' ';
-    appendNumber(out, v.y());
-    out += ' ';
-    appendNumber(out, v.z());
-    out += '\n';
-  }
+  for (const Eigen::Vector3d& v : mesh.vertices)
+    appendVector(out, v);
   for (const Face& face : mesh.faces)
     out += "3 " + std::to_string(face[0]) + " " + std::to_string(face[1]) + " " + std::to_string(face[2]) + "\n";
   return out;
