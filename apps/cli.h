@@ -93,6 +93,7 @@ int runHelp(const std::vector<std::string>& args);
 int runInfo(const std::vector<std::string>& args);
 int runEval(const std::vector<std::string>& args);
 int runDemo(const std::vector<std::string>& args);
+int runLearn(const std::vector<std::string>& args);
 
 }  // namespace cli
 }  // namespace patchdict

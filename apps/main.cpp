@@ -28,7 +28,10 @@ const std::vector<std::pair<std::string, Subcommand>>& subcommands()
                 "vertex RMSE, symmetric surface distance, Hausdorff and PSNR of OUT against REF"}},
       {"quads", {{}, "quads IN -o QUADS.obj", "coarse mesh + field-aligned quad mesh"}},
       {"patches", {{}, "patches IN -o PATCHES.pds [--png SHEET.png]", "height-map patch set"}},
-      {"learn", {{}, "learn IN... -o DICT.pdd", "learn a patch dictionary"}},
+      {"learn", {cli::runLearn,
+                 "learn IN.pds... -o DICT.pdd [--atoms K] [--sparsity S] [--iterations T] [--method ksvd|online] "
+                 "[--remove-mean] [--png ATOMS.png]",
+                 "learn a patch dictionary from patch sets (local: one, global: many)"}},
       {"reconstruct", {{}, "reconstruct IN [--dict DICT.pdd] -o OUT", "patch round trip"}},
       {"compress", {{}, "compress IN --dict DICT.pdd -o OUT.pdc", "compress as quad mesh + sparse codes"}},
       {"decompress", {{}, "decompress IN.pdc --dict DICT.pdd -o OUT", "decode a .pdc file"}},
@@ -47,8 +50,8 @@ int cli::runHelp(const std::vector<std::string>&)
   std::cout << "pcl_patchdict — repair and compress 3D surfaces with learned dictionaries of height-map patches\n\n"
                "usage: pcl_patchdict COMMAND [ARGS] [OPTIONS]\n\ncommands:\n";
   for (const auto& [name, command] : subcommands())
-    std::printf("  %-84s %s%s\n", command.synopsis, command.what, command.run ? "" : " (not in this version yet)");
-  std::cout << "  help                                                                                 this text\n\n"
+    std::printf("  %s\n      %s%s\n", command.synopsis, command.what, command.run ? "" : " (not in this version yet)");
+  std::cout << "  help\n      this text\n\n"
                "common options: --threads T, --seed X, --json (one JSON object on stdout), --quiet (no progress on stderr)\n"
                "formats: PLY (ascii/binary), OBJ, OFF, STL meshes; PCD and face-less PLY clouds\n";
   return 0;

@@ -1,5 +1,7 @@
 // The pcl_patchdict tool as a user meets it: exit codes, one-line errors, --json, untouched inputs.
 #include <pcl_patchdict/mesh_io.h>
+#include <pcl_patchdict/patch_dictionary.h>
+#include <pcl_patchdict/patch_set.h>
 #include <pcl_patchdict/shapes.h>
 
 #include "test_support.h"
@@ -9,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <random>
 
 using namespace pcl::patchdict;
 using test_support::runTool;
@@ -194,4 +197,48 @@ TEST(Cli, DemoRunsOnTheBundledMesh)
   // Deterministic for a seed.
   EXPECT_EQ(runTool("demo --json --seed 5").out.substr(0, result.out.find("\"seconds\"")),
             result.out.substr(0, result.out.find("\"seconds\"")));
+}
+
+TEST(Cli, LearnFromPatchFiles)
+{
+  // Two patch sets of one shape family (a sinusoidal relief sampled at random places) → one
+  // dictionary whose atoms reproduce the training patches well.
+  test_support::TempDir dir;
+  std::mt19937_64 rng(4);
+  std::normal_distribution<double> gaussian;
+  for (const char* name : {"a.pds", "b.pds"}) {
+    PatchSet set;
+    set.grid_size = 8;
+    set.radius = 0.1;
+    const int count = 300;
+    set.heights.resize(64, count);
+    set.observed = ObservationMask::Constant(64, count, true);
+    for (int p = 0; p < count; ++p) {
+      set.seeds.emplace_back(gaussian(rng), gaussian(rng), 0.0);
+      set.rotations.push_back(Eigen::Matrix3d::Identity());
+      set.source.push_back(0);
+      const double phase = gaussian(rng);
+      for (int b = 0; b < 64; ++b)
+        set.heights(b, p) = std::sin(phase + 0.7 * (b % 8)) + 0.3 * std::cos(phase * 2.0 + 0.5 * (b / 8));
+    }
+    set.save(dir.file(name));
+  }
+  auto result = runTool("learn " + q(dir.file("a.pds")) + " " + q(dir.file("b.pds")) + " -o " + q(dir.file("d.pdd")) +
+                        " --atoms 12 --sparsity 4 --iterations 10 --png " + q(dir.file("atoms.png")) + " --json");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(jsonNumber(result.out, "patches"), 600.0);
+  EXPECT_LT(jsonNumber(result.out, "final_rmse"), 0.05);
+  const auto dictionary = PatchDictionary::load(dir.file("d.pdd"), 8);
+  EXPECT_EQ(dictionary->atoms().cols(), 12);
+  EXPECT_EQ(test_support::readFile(dir.file("atoms.png")).substr(1, 3), "PNG");
+  // A mesh is refused with one line; so is an output in a missing directory.
+  writeMesh(dir.file("m.ply"), makePlaneGrid(2, 2));
+  result = runTool("learn " + q(dir.file("m.ply")) + " -o " + q(dir.file("x.pdd")) + " --quiet");
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_TRUE(isOneLine(result.err)) << result.err;
+  result = runTool("learn " + q(dir.file("a.pds")) + " -o " + q(dir.file("no/such/d.pdd")) + " --quiet");
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_TRUE(isOneLine(result.err)) << result.err;
+  result = runTool("learn " + q(dir.file("a.pds")) + " --quiet");  // no -o
+  EXPECT_EQ(result.exit_code, 2);
 }
