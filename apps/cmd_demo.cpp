@@ -48,8 +48,10 @@ std::string findBundledMesh(const std::string& name)
 
 int runDemo(const std::vector<std::string>& raw)
 {
-  const Arguments args(raw, commonValueOptions(), commonFlagOptions());
-  args.expectPositionals(0, 0, "pcl_patchdict demo [--json] [--seed X]");
+  auto value_options = commonValueOptions();
+  value_options.insert("png");
+  const Arguments args(raw, value_options, commonFlagOptions());
+  args.expectPositionals(0, 0, "pcl_patchdict demo [--json] [--seed X] [--png ATOMS.png]");
   applyCommonOptions(args);
   const bool quiet = args.has("quiet") || args.has("json");
   const auto seed = static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62)));
@@ -113,6 +115,8 @@ int runDemo(const std::vector<std::string>& raw)
   dictionary.setIterations(10);
   dictionary.setSeed(seed);
   dictionary.learn(patches.heights.leftCols(train_count), patches.observed.leftCols(train_count));
+  if (args.has("png"))
+    dictionary.saveAtomsPNG(args.get("png"), 20, 3);
 
   // Held-out patches: coded whole, and coded with a disk of bins (about a quarter) hidden.
   timer.start("code");

@@ -22,7 +22,7 @@ struct Subcommand {
 const std::vector<std::pair<std::string, Subcommand>>& subcommands()
 {
   static const std::vector<std::pair<std::string, Subcommand>> table{
-      {"demo", {cli::runDemo, "demo [--json]", "the main job on the bundled mesh"}},
+      {"demo", {cli::runDemo, "demo [--json] [--seed X] [--png ATOMS.png]", "the main job on the bundled mesh"}},
       {"info", {cli::runInfo, "info IN [--json]", "statistics and hygiene report of a mesh or cloud"}},
       {"eval", {cli::runEval, "eval REF OUT [--vertices IDX.txt] [--samples N] [--absolute] [--json]",
                 "vertex RMSE, symmetric surface distance, Hausdorff and PSNR of OUT against REF"}},
