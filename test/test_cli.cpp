@@ -237,6 +237,12 @@ TEST(Cli, LearnFromPatchFiles)
   const auto dictionary = PatchDictionary::load(dir.file("d.pdd"), 8);
   EXPECT_EQ(dictionary->atoms().cols(), 12);
   EXPECT_EQ(test_support::readFile(dir.file("atoms.png")).substr(1, 3), "PNG");
+  // Online learning streams the files (one in memory at a time).
+  result = runTool("learn " + q(dir.file("a.pds")) + " " + q(dir.file("b.pds")) + " -o " + q(dir.file("o.pdd")) +
+                   " --method online --atoms 12 --sparsity 4 --iterations 5 --batch 64 --json");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(jsonNumber(result.out, "patches"), 600.0);
+  EXPECT_EQ(PatchDictionary::load(dir.file("o.pdd"), 8)->atoms().cols(), 12);
   // A mesh is refused with one line; so is an output in a missing directory.
   writeMesh(dir.file("m.ply"), makePlaneGrid(2, 2));
   result = runTool("learn " + q(dir.file("m.ply")) + " -o " + q(dir.file("x.pdd")) + " --quiet");
