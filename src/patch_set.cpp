@@ -188,7 +188,8 @@ PatchSet PatchSet::load(const std::string& path)
   }
   const auto rows = static_cast<Eigen::Index>(bins), cols = static_cast<Eigen::Index>(patches);
   set.heights.resize(rows, cols);
-  std::memcpy(set.heights.data(), cursor, sizeof(double) * bins * patches);
+  if (patches > 0)  // an empty matrix has no data pointer to copy into
+    std::memcpy(set.heights.data(), cursor, sizeof(double) * bins * patches);
   cursor += sizeof(double) * bins * patches;
   set.observed.resize(rows, cols);
   for (std::size_t k = 0; k < bins * patches; ++k) {
@@ -199,7 +200,8 @@ PatchSet PatchSet::load(const std::string& path)
   }
   cursor += bins * patches;
   set.source.resize(patches);
-  std::memcpy(set.source.data(), cursor, sizeof(std::int32_t) * patches);
+  if (patches > 0)
+    std::memcpy(set.source.data(), cursor, sizeof(std::int32_t) * patches);
   try {
     set.check();
   } catch (const Error& error) {
