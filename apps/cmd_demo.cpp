@@ -89,17 +89,8 @@ int runDemo(const std::vector<std::string>& raw)
   const int grid = 16, train_count = 2000, test_count = 1000;
   const SurfaceSamples seeds = sampleSurfaceUniform(mesh, train_count + test_count, seed + 7);
   pcl::PointCloud<pcl::ReferenceFrame> frames;
-  for (const auto face : seeds.face_ids) {
-    const Eigen::Vector3d z = mesh.faceNormal(static_cast<std::size_t>(face));
-    const Eigen::Vector3d x = z.unitOrthogonal(), y = z.cross(x);
-    pcl::ReferenceFrame frame;
-    for (int k = 0; k < 3; ++k) {
-      frame.x_axis[k] = static_cast<float>(x[k]);
-      frame.y_axis[k] = static_cast<float>(y[k]);
-      frame.z_axis[k] = static_cast<float>(z[k]);
-    }
-    frames.push_back(frame);
-  }
+  for (const auto face : seeds.face_ids)
+    frames.push_back(referenceFrameFromNormal(mesh.faceNormal(static_cast<std::size_t>(face))));
   HeightMapPatchExtractor extractor;
   extractor.setInputMesh(mesh);
   extractor.setSeeds(seeds.points, frames);

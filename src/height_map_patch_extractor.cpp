@@ -310,5 +310,18 @@ void HeightMapPatchExtractor::computeCloud(PatchSet& out) const
   }
 }
 
+pcl::ReferenceFrame referenceFrameFromNormal(const Eigen::Vector3d& normal)
+{
+  const Eigen::Vector3d z = normal.normalized();
+  const Eigen::Vector3d x = z.unitOrthogonal(), y = z.cross(x);
+  pcl::ReferenceFrame frame;
+  for (int k = 0; k < 3; ++k) {
+    frame.x_axis[k] = static_cast<float>(x[k]);
+    frame.y_axis[k] = static_cast<float>(y[k]);
+    frame.z_axis[k] = static_cast<float>(z[k]);
+  }
+  return frame;
+}
+
 }  // namespace patchdict
 }  // namespace pcl

@@ -259,15 +259,13 @@ FieldHierarchy buildFieldHierarchy(const TriangleMesh& mesh)
   return hierarchy;
 }
 
-std::pair<Eigen::Vector3d, Eigen::Vector3d> compatOrientationExtrinsic4(const Eigen::Vector3d& q0,
-                                                                        const Eigen::Vector3d& n0,
-                                                                        const Eigen::Vector3d& q1,
-                                                                        const Eigen::Vector3d& n1)
+namespace {
+
+// Of {q0, n0×q0} × {q1, n1×q1}, the pair most nearly parallel or antiparallel (Jakob et al. 2015,
+// extrinsic 4-RoSy comparison): the 4-fold symmetry reduced to two candidates on each side.
+void bestAlignedPair(const Eigen::Vector3d (&A)[2], const Eigen::Vector3d (&B)[2], int& best_a, int& best_b)
 {
-  const Eigen::Vector3d A[2] = {q0, n0.cross(q0)};
-  const Eigen::Vector3d B[2] = {q1, n1.cross(q1)};
   double best = -1.0;
-  int best_a = 0, best_b = 0;
   for (int a = 0; a < 2; ++a)
     for (int b = 0; b < 2; ++b) {
       const double score = std::abs(A[a].dot(B[b]));
@@ -277,6 +275,19 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> compatOrientationExtrinsic4(const Ei
         best_b = b;
       }
     }
+}
+
+}  // namespace
+
+std::pair<Eigen::Vector3d, Eigen::Vector3d> compatOrientationExtrinsic4(const Eigen::Vector3d& q0,
+                                                                        const Eigen::Vector3d& n0,
+                                                                        const Eigen::Vector3d& q1,
+                                                                        const Eigen::Vector3d& n1)
+{
+  const Eigen::Vector3d A[2] = {q0, n0.cross(q0)};
+  const Eigen::Vector3d B[2] = {q1, n1.cross(q1)};
+  int best_a = 0, best_b = 0;
+  bestAlignedPair(A, B, best_a, best_b);
   const double dot = A[best_a].dot(B[best_b]);
   return {A[best_a], dot < 0.0 ? Eigen::Vector3d(-B[best_b]) : B[best_b]};
 }
@@ -286,17 +297,8 @@ int compatOrientationExtrinsicIndex4(const Eigen::Vector3d& q0, const Eigen::Vec
 {
   const Eigen::Vector3d A[2] = {q0, n0.cross(q0)};
   const Eigen::Vector3d B[2] = {q1, n1.cross(q1)};
-  double best = -1.0;
   int best_a = 0, best_b = 0;
-  for (int a = 0; a < 2; ++a)
-    for (int b = 0; b < 2; ++b) {
-      const double score = std::abs(A[a].dot(B[b]));
-      if (score > best) {
-        best = score;
-        best_a = a;
-        best_b = b;
-      }
-    }
+  bestAlignedPair(A, B, best_a, best_b);
   // rot^best_a(q0) ≈ ±rot^best_b(q1); a negative sign is two more quarter turns of q1.
   if (A[best_a].dot(B[best_b]) < 0.0)
     best_b += 2;

@@ -1,3 +1,5 @@
+#include "binary_format.h"
+
 #include <pcl_patchdict/atomic_file.h>
 #include <pcl_patchdict/error.h>
 #include <pcl_patchdict/patch_dictionary.h>
@@ -33,14 +35,6 @@ struct PddHeader {
 };
 #pragma pack(pop)
 static_assert(sizeof(PddHeader) == 56, "unexpected .pdd header size");
-
-bool isLittleEndian()
-{
-  const std::uint16_t one = 1;
-  std::uint8_t first;
-  std::memcpy(&first, &one, 1);
-  return first == 1;
-}
 
 int gridOf(Eigen::Index rows)
 {
@@ -201,7 +195,7 @@ std::uint64_t PatchDictionary::fingerprint() const
 void PatchDictionary::save(const std::string& path) const
 {
   requireAtoms();
-  if (!isLittleEndian())
+  if (!detail::isLittleEndian())
     throw Error("writing .pdd files needs a little-endian machine");
   PddHeader header{};
   std::memcpy(header.magic, kMagic, sizeof kMagic);
@@ -223,7 +217,7 @@ void PatchDictionary::save(const std::string& path) const
 
 PatchDictionary::Ptr PatchDictionary::load(const std::string& path, int expected_grid_size)
 {
-  if (!isLittleEndian())
+  if (!detail::isLittleEndian())
     throw Error("reading .pdd files needs a little-endian machine");
   const std::string bytes = readWholeFile(path);
   const std::string where = "cannot read dictionary '" + path + "': ";

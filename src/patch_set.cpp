@@ -1,3 +1,5 @@
+#include "binary_format.h"
+
 #include <pcl_patchdict/atomic_file.h>
 #include <pcl_patchdict/error.h>
 #include <pcl_patchdict/patch_dictionary.h>
@@ -30,14 +32,6 @@ struct PdsHeader {
 };
 #pragma pack(pop)
 static_assert(sizeof(PdsHeader) == 40, "unexpected .pds header size");
-
-bool isLittleEndian()
-{
-  const std::uint16_t one = 1;
-  std::uint8_t first;
-  std::memcpy(&first, &one, 1);
-  return first == 1;
-}
 
 std::size_t bytesPerPatch(std::size_t bins)
 {
@@ -108,7 +102,7 @@ void PatchSet::append(const PatchSet& other)
 void PatchSet::save(const std::string& path) const
 {
   check();
-  if (!isLittleEndian())
+  if (!detail::isLittleEndian())
     throw Error("writing .pds files needs a little-endian machine");
   PdsHeader header{};
   std::memcpy(header.magic, kMagic, sizeof kMagic);
@@ -138,7 +132,7 @@ void PatchSet::save(const std::string& path) const
 
 PatchSet PatchSet::load(const std::string& path)
 {
-  if (!isLittleEndian())
+  if (!detail::isLittleEndian())
     throw Error("reading .pds files needs a little-endian machine");
   const std::string bytes = readWholeFile(path);
   const std::string where = "cannot read patch set '" + path + "': ";

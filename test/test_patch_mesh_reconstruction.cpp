@@ -19,25 +19,13 @@ using namespace pcl::patchdict;
 
 namespace {
 
-pcl::ReferenceFrame frameFromNormal(const Eigen::Vector3d& z)
-{
-  const Eigen::Vector3d x = z.unitOrthogonal(), y = z.cross(x);
-  pcl::ReferenceFrame frame;
-  for (int k = 0; k < 3; ++k) {
-    frame.x_axis[k] = static_cast<float>(x[k]);
-    frame.y_axis[k] = static_cast<float>(y[k]);
-    frame.z_axis[k] = static_cast<float>(z[k]);
-  }
-  return frame;
-}
-
 // Patches at random surface points with face-normal frames (stand-ins for the quad frames).
 PatchSet extractRandom(const TriangleMesh& mesh, std::size_t count, double side, int grid, std::uint64_t seed)
 {
   const SurfaceSamples seeds = sampleSurfaceUniform(mesh, count, seed);
   pcl::PointCloud<pcl::ReferenceFrame> frames;
   for (const auto face : seeds.face_ids)
-    frames.push_back(frameFromNormal(mesh.faceNormal(static_cast<std::size_t>(face))));
+    frames.push_back(referenceFrameFromNormal(mesh.faceNormal(static_cast<std::size_t>(face))));
   HeightMapPatchExtractor extractor;
   extractor.setInputMesh(mesh);
   extractor.setSeeds(seeds.points, frames);

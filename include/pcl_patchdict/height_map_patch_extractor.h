@@ -83,5 +83,9 @@ private:
   std::int32_t source_index_ = 0;
 };
 
+/** A right-handed frame whose Z is the given unit normal and whose X is an arbitrary (but
+  * deterministic) tangent: for callers without quad frames, e.g. seeds at random surface points. */
+pcl::ReferenceFrame referenceFrameFromNormal(const Eigen::Vector3d& normal);
+
 }  // namespace patchdict
 }  // namespace pcl
