@@ -120,7 +120,7 @@ int runDemo(const std::vector<std::string>& raw)
         damaged(b, p) = false;
   const Eigen::MatrixXd coded = dictionary.decode(dictionary.encodeMasked(test, observed, {8, 0.0}));
   const Eigen::MatrixXd filled = dictionary.decode(dictionary.encodeMasked(test, damaged, {8, 0.0}));
-  double coded_error = 0.0, filled_error = 0.0, quadric_error = 0.0;  // flat: the quadric baseline
+  double coded_error = 0.0, filled_error = 0.0, quadric_error = 0.0;
   std::size_t coded_count = 0, hole_count = 0;
   for (Eigen::Index i = 0; i < test.size(); ++i) {
     if (!observed.data()[i])

@@ -71,23 +71,15 @@ int runEval(const std::vector<std::string>& raw)
 
   timer.start("surface_distance");
   SurfaceDistance distance;
-  bool symmetric = !out.faces.empty();
+  const bool symmetric = !out.faces.empty();
   if (symmetric) {
     distance = surfaceDistance(ref, out, samples, seed);
   } else {
     // A cloud output: the one-way distance of its points to the reference surface.
-    const PointToMeshDistance to_ref(ref);
-    const std::vector<double> d = to_ref.distances(out.vertices);
-    double sum = 0.0, sum_sq = 0.0, max_d = 0.0;
-    for (const double x : d) {
-      sum += x;
-      sum_sq += x * x;
-      max_d = std::max(max_d, x);
-    }
-    const double n = static_cast<double>(std::max<std::size_t>(d.size(), 1));
-    distance.mean_out_to_ref = sum / n;
-    distance.rms_out_to_ref = std::sqrt(sum_sq / n);
-    distance.max_out_to_ref = max_d;
+    const PointSetDistance to_ref = pointsToSurfaceDistance(out.vertices, ref);
+    distance.mean_out_to_ref = to_ref.mean;
+    distance.rms_out_to_ref = to_ref.rms;
+    distance.max_out_to_ref = to_ref.max;
     distance.bbox_diagonal = ref.boundingBoxDiagonal();
   }
   timer.stop();

@@ -56,7 +56,7 @@ int runLearn(const std::vector<std::string>& raw)
     OnlineLearningParameters parameters;
     parameters.num_atoms = dictionary.getNumAtoms();
     parameters.sparsity = dictionary.getSparsity();
-    parameters.batch_size = static_cast<int>(args.getInt("batch", 512, 1, 1 << 20));
+    parameters.batch_size = dictionary.getBatchSize();
     parameters.seed = dictionary.getSeed();
     OnlineDictionaryLearner learner(parameters);
     double observed_sum = 0.0;
@@ -79,7 +79,7 @@ int runLearn(const std::vector<std::string>& raw)
     if (patch_count == 0)
       throw Error("the patch files hold no patches");
     observed_fraction = observed_sum / static_cast<double>(patch_count);
-    dictionary.setAtoms(learner.dictionary());
+    dictionary.setAtoms(learner.dictionary(), patch_count);
   } else {
     timer.start("load");
     PatchSet patches;

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <string>
 
@@ -532,7 +533,34 @@ OneWay accumulate(const std::vector<double>& distances, double noise_floor)
   return w;
 }
 
+// Resolution floor: 64 ulps of the largest coordinate magnitude of the point sets involved.
+double noiseFloor(std::initializer_list<const std::vector<Vector3d>*> point_sets)
+{
+  double magnitude = 0.0;
+  for (const auto* points : point_sets)
+    for (const Vector3d& p : *points)
+      magnitude = std::max(magnitude, p.cwiseAbs().maxCoeff());
+  return 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
+}
+
 }  // namespace
+
+PointSetDistance pointsToSurfaceDistance(const std::vector<Vector3d>& points, const TriangleMesh& mesh)
+{
+  if (mesh.faces.empty())
+    throw Error("point distance: the surface has no faces");
+  PointSetDistance result;
+  result.count = points.size();
+  if (points.empty())
+    return result;
+  const PointToMeshDistance to_mesh(mesh);
+  const OneWay w = accumulate(to_mesh.distances(points), noiseFloor({&points, &mesh.vertices}));
+  const auto n = static_cast<double>(points.size());
+  result.mean = w.sum.value() / n;
+  result.rms = std::sqrt(w.sum_squares.value() / n);
+  result.max = w.max;
+  return result;
+}
 
 double vertexRMSE(const TriangleMesh& ref, const TriangleMesh& out, const std::vector<int>& indices)
 {
@@ -581,15 +609,9 @@ SurfaceDistance surfaceDistance(const TriangleMesh& ref, const TriangleMesh& out
   const SurfaceSamples out_samples = sampleSurfaceUniform(out, num_samples, seed + 1);
   const PointToMeshDistance to_out(out);
   const PointToMeshDistance to_ref(ref);
-  // Resolution floor: 64 ulps of the largest coordinate magnitude of either mesh.
-  Vector3d lo_ref, hi_ref, lo_out, hi_out;
-  ref.boundingBox(lo_ref, hi_ref);
-  out.boundingBox(lo_out, hi_out);
-  const double magnitude = std::max({lo_ref.cwiseAbs().maxCoeff(), hi_ref.cwiseAbs().maxCoeff(),
-                                     lo_out.cwiseAbs().maxCoeff(), hi_out.cwiseAbs().maxCoeff()});
-  const double noise_floor = 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
-  const OneWay ro = accumulate(to_out.distances(ref_samples.points), noise_floor);
-  const OneWay orf = accumulate(to_ref.distances(out_samples.points), noise_floor);
+  const double floor = noiseFloor({&ref.vertices, &out.vertices});
+  const OneWay ro = accumulate(to_out.distances(ref_samples.points), floor);
+  const OneWay orf = accumulate(to_ref.distances(out_samples.points), floor);
 
   SurfaceDistance r;
   const auto n = static_cast<double>(num_samples);

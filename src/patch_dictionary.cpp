@@ -99,7 +99,8 @@ LearningReport PatchDictionary::learn(const Eigen::MatrixXd& patches, const Obse
   if (sparsity_ < 1 || iterations_ < 1 || batch_size_ < 1)
     throw Error("sparsity, iterations and batch size must be at least 1");
   const ObservationMask* mask_pointer = mask.size() ? &mask : nullptr;
-  const Eigen::MatrixXd training = centred(patches, patchMeans(patches, mask_pointer));
+  Eigen::MatrixXd storage;
+  const Eigen::MatrixXd& training = centred(patches, patchMeans(patches, mask_pointer), storage);
   LearningReport report;
   if (method_ == LearningMethod::KSVD) {
     KSVDParameters parameters;
@@ -124,7 +125,7 @@ LearningReport PatchDictionary::learn(const Eigen::MatrixXd& patches, const Obse
   return report;
 }
 
-void PatchDictionary::setAtoms(const Eigen::MatrixXd& atoms)
+void PatchDictionary::setAtoms(const Eigen::MatrixXd& atoms, std::uint64_t training_patches)
 {
   const int grid = gridOf(atoms.rows());
   if (atoms.cols() < 1 || atoms.cols() > kMaxAtoms || !atoms.allFinite())
@@ -140,7 +141,7 @@ void PatchDictionary::setAtoms(const Eigen::MatrixXd& atoms)
   grid_size_ = grid;
   num_atoms_ = static_cast<int>(atoms.cols());
   gram_ = atoms_.transpose() * atoms_;
-  training_patches_ = 0;
+  training_patches_ = training_patches;
 }
 
 PatchCodes PatchDictionary::encode(const Eigen::MatrixXd& patches, const SparseCodingParameters& parameters) const
@@ -148,7 +149,8 @@ PatchCodes PatchDictionary::encode(const Eigen::MatrixXd& patches, const SparseC
   checkPatches(patches);
   PatchCodes codes;
   codes.means = patchMeans(patches, nullptr);
-  codes.coefficients = batchOMP(atoms_, gram_, centred(patches, codes.means), parameters);
+  Eigen::MatrixXd storage;
+  codes.coefficients = batchOMP(atoms_, gram_, centred(patches, codes.means, storage), parameters);
   return codes;
 }
 
@@ -160,16 +162,19 @@ PatchCodes PatchDictionary::encodeMasked(const Eigen::MatrixXd& patches, const O
     throw Error("the mask does not match the patches");
   PatchCodes codes;
   codes.means = patchMeans(patches, &mask);
-  codes.coefficients = maskedOMP(atoms_, centred(patches, codes.means), mask, parameters);
+  Eigen::MatrixXd storage;
+  codes.coefficients = maskedOMP(atoms_, centred(patches, codes.means, storage), mask, parameters);
   return codes;
 }
 
-Eigen::MatrixXd PatchDictionary::centred(const Eigen::MatrixXd& patches, const Eigen::VectorXd& means) const
+const Eigen::MatrixXd& PatchDictionary::centred(const Eigen::MatrixXd& patches, const Eigen::VectorXd& means,
+                                                Eigen::MatrixXd& storage) const
 {
-  Eigen::MatrixXd result = patches;
-  if (remove_mean_)
-    result.rowwise() -= means.transpose();
-  return result;
+  if (!remove_mean_)
+    return patches;  // no copy: the training set can be as large as memory allows
+  storage = patches;
+  storage.rowwise() -= means.transpose();
+  return storage;
 }
 
 Eigen::MatrixXd PatchDictionary::decode(const PatchCodes& codes) const

@@ -242,7 +242,9 @@ TEST(Cli, LearnFromPatchFiles)
                    " --method online --atoms 12 --sparsity 4 --iterations 5 --batch 64 --json");
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(jsonNumber(result.out, "patches"), 600.0);
-  EXPECT_EQ(PatchDictionary::load(dir.file("o.pdd"), 8)->atoms().cols(), 12);
+  const auto online = PatchDictionary::load(dir.file("o.pdd"), 8);
+  EXPECT_EQ(online->atoms().cols(), 12);
+  EXPECT_EQ(online->trainingPatches(), 600u);
   // A mesh is refused with one line; so is an output in a missing directory.
   writeMesh(dir.file("m.ply"), makePlaneGrid(2, 2));
   result = runTool("learn " + q(dir.file("m.ply")) + " -o " + q(dir.file("x.pdd")) + " --quiet");

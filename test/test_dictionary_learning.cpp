@@ -121,8 +121,7 @@ TEST(DictionaryLearning, OnlineLearningRecoversAtomsFromAStream)
   learner.fit(data.noisy, ObservationMask(), 3);
   EXPECT_EQ(learner.signalsSeen(), 60000u);
   EXPECT_GE(recoveredFraction(data.dictionary, learner.dictionary()), 0.8);
-  // Streaming the same data batch by batch gives the same result as fit's batches would: the
-  // state is only the dictionary and the statistics.
+  // An empty batch is refused rather than silently skipped.
   OnlineDictionaryLearner again(parameters);
   EXPECT_THROW(again.update(Eigen::MatrixXd(0, 0)), Error);
 }

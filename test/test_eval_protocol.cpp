@@ -1,13 +1,17 @@
 // The metrics on a real scan: the protocol's claims that eval must satisfy on the bundled bunny.
+#include <pcl_patchdict/error.h>
 #include <pcl_patchdict/mesh_hygiene.h>
 #include <pcl_patchdict/mesh_io.h>
 #include <pcl_patchdict/metrics.h>
 #include <pcl_patchdict/normalization.h>
+#include <pcl_patchdict/shapes.h>
 #include <pcl_patchdict/vertex_normals.h>
 
 #include "test_support.h"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 using namespace pcl::patchdict;
 
@@ -42,4 +46,21 @@ TEST(EvalProtocol, BunnyShiftedAlongItsNormalsIsTheShift)
   EXPECT_NEAR(d.rms / shift, 1.0, 0.015);
   EXPECT_NEAR(d.hausdorff / shift, 1.0, 0.01);
   EXPECT_NEAR(vertexRMSE(bunny, shifted), shift, 1e-12);
+}
+
+TEST(EvalProtocol, PointsAboveAPlaneAreTheirHeight)
+{
+  const TriangleMesh plane = makePlaneGrid(8, 8);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 50; ++i)
+    points.emplace_back(0.02 * i, 0.5, i % 2 ? 0.003 : -0.001);
+  const PointSetDistance d = pointsToSurfaceDistance(points, plane);
+  EXPECT_EQ(d.count, 50u);
+  EXPECT_NEAR(d.mean, 0.002, 1e-15);
+  EXPECT_NEAR(d.rms, std::sqrt((0.003 * 0.003 + 0.001 * 0.001) / 2.0), 1e-15);
+  EXPECT_NEAR(d.max, 0.003, 1e-15);
+  EXPECT_EQ(pointsToSurfaceDistance({}, plane).mean, 0.0);
+  TriangleMesh cloud;
+  cloud.vertices = points;
+  EXPECT_THROW(pointsToSurfaceDistance(points, cloud), Error);
 }

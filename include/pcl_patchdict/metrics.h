@@ -50,6 +50,17 @@ private:
   * Throws Error if the vertex counts differ or an index is out of range. */
 double vertexRMSE(const TriangleMesh& ref, const TriangleMesh& out, const std::vector<int>& indices = {});
 
+/** Distances of a set of points to a surface (mean, RMS, max). */
+struct PointSetDistance {
+  double mean = 0.0, rms = 0.0, max = 0.0;
+  std::size_t count = 0;
+};
+
+/** One-way distance of `points` to the surface of `mesh` (e.g. a cloud output against its
+  * reference); distances at rounding level count as 0, as in surfaceDistance. Throws Error if the
+  * mesh has no faces; an empty point set gives zeros. */
+PointSetDistance pointsToSurfaceDistance(const std::vector<Eigen::Vector3d>& points, const TriangleMesh& mesh);
+
 /** Distances one way (samples of A to the surface of B) and their symmetric combination. */
 struct SurfaceDistance {
   double mean_ref_to_out = 0.0, rms_ref_to_out = 0.0, max_ref_to_out = 0.0;

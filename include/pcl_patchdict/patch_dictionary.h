@@ -40,6 +40,7 @@ public:
   void setLearningMethod(LearningMethod method) { method_ = method; }
   LearningMethod getLearningMethod() const { return method_; }
   void setBatchSize(int batch_size) { batch_size_ = batch_size; }
+  int getBatchSize() const { return batch_size_; }
   void setSeed(std::uint64_t seed) { seed_ = seed; }
   std::uint64_t getSeed() const { return seed_; }
   /** Subtract each patch's mean observed height before coding and add it back on decoding. */
@@ -51,8 +52,9 @@ public:
     * passes over the data. Throws Error for bad sizes or parameters. */
   LearningReport learn(const Eigen::MatrixXd& patches, const ObservationMask& mask = ObservationMask());
 
-  /** Uses the given atoms (N² × K, normalised here) instead of learning them. */
-  void setAtoms(const Eigen::MatrixXd& atoms);
+  /** Uses the given atoms (N² × K, normalised here) instead of learning them; `training_patches`
+    * is what the .pdd file records as their origin (e.g. an OnlineDictionaryLearner's count). */
+  void setAtoms(const Eigen::MatrixXd& atoms, std::uint64_t training_patches = 0);
 
   /** Sparse codes of fully observed patches (Batch-OMP). */
   PatchCodes encode(const Eigen::MatrixXd& patches, const SparseCodingParameters& parameters) const;
@@ -84,8 +86,10 @@ private:
   void requireAtoms() const;
   void checkPatches(const Eigen::MatrixXd& patches) const;
   Eigen::VectorXd patchMeans(const Eigen::MatrixXd& patches, const ObservationMask* mask) const;
-  /** The patches less their means when the mean is removed, else as they are. */
-  Eigen::MatrixXd centred(const Eigen::MatrixXd& patches, const Eigen::VectorXd& means) const;
+  /** The patches less their means (built in `storage`) when the mean is removed, else the
+    * patches themselves, uncopied. */
+  const Eigen::MatrixXd& centred(const Eigen::MatrixXd& patches, const Eigen::VectorXd& means,
+                                 Eigen::MatrixXd& storage) const;
 
   int num_atoms_ = 100;
   int sparsity_ = 8;
