@@ -1,5 +1,7 @@
 #include <pcl_patchdict/error.h>
 #include <pcl_patchdict/height_map_patch_extractor.h>
+#include <pcl_patchdict/reference_frame.h>
+
 
 #include <pcl/kdtree/kdtree_flann.h>
 
@@ -69,15 +71,8 @@ void HeightMapPatchExtractor::setSeeds(const std::vector<Eigen::Vector3d>& seeds
   seeds_ = seeds;
   num_frames_ = frames.size();
   rotations_.resize(frames.size());
-  for (std::size_t p = 0; p < frames.size(); ++p) {
-    const auto& frame = frames[p];
-    Eigen::Matrix3d& rotation = rotations_[p];
-    for (int c = 0; c < 3; ++c) {
-      rotation(0, c) = frame.x_axis[c];
-      rotation(1, c) = frame.y_axis[c];
-      rotation(2, c) = frame.z_axis[c];
-    }
-  }
+  for (std::size_t p = 0; p < frames.size(); ++p)
+    rotations_[p] = fromReferenceFrame(frames[p]);
 }
 
 void HeightMapPatchExtractor::setInputMesh(const TriangleMesh& mesh)
@@ -314,13 +309,11 @@ pcl::ReferenceFrame referenceFrameFromNormal(const Eigen::Vector3d& normal)
 {
   const Eigen::Vector3d z = normal.normalized();
   const Eigen::Vector3d x = z.unitOrthogonal(), y = z.cross(x);
-  pcl::ReferenceFrame frame;
-  for (int k = 0; k < 3; ++k) {
-    frame.x_axis[k] = static_cast<float>(x[k]);
-    frame.y_axis[k] = static_cast<float>(y[k]);
-    frame.z_axis[k] = static_cast<float>(z[k]);
-  }
-  return frame;
+  Eigen::Matrix3d rows;
+  rows.row(0) = x;
+  rows.row(1) = y;
+  rows.row(2) = z;
+  return toReferenceFrame(rows);
 }
 
 }  // namespace patchdict

@@ -3,6 +3,7 @@
 #include <pcl_patchdict/quad_remesher.h>
 
 #include <pcl_patchdict/error.h>
+#include <pcl_patchdict/mesh_topology.h>
 #include <pcl_patchdict/metrics.h>
 #include <pcl_patchdict/position_field.h>
 
@@ -64,10 +65,17 @@ void splitPolygon(std::vector<std::int32_t> polygon, const std::vector<Eigen::Ve
       const std::int32_t a = polygon[s], b = polygon[(s + 1) % m], c = polygon[(s + 2) % m], d = polygon[(s + 3) % m];
       if (is_edge(a, d))
         continue;  // the cut would duplicate an existing edge (a non-manifold edge)
-      const double score = std::abs(cornerAngle(p[d], p[a], p[b]) - kRight) +
-                           std::abs(cornerAngle(p[a], p[b], p[c]) - kRight) +
-                           std::abs(cornerAngle(p[b], p[c], p[d]) - kRight) +
-                           std::abs(cornerAngle(p[c], p[d], p[a]) - kRight);
+      double score = std::abs(cornerAngle(p[d], p[a], p[b]) - kRight) +
+                     std::abs(cornerAngle(p[a], p[b], p[c]) - kRight) +
+                     std::abs(cornerAngle(p[b], p[c], p[d]) - kRight) +
+                     std::abs(cornerAngle(p[c], p[d], p[a]) - kRight);
+      if (m == 5) {
+        // The triangle left over (d, e, a) must not be a sliver: penalise an obtuse corner.
+        const std::int32_t e = polygon[(s + 4) % m];
+        const double widest = std::max({cornerAngle(p[a], p[d], p[e]), cornerAngle(p[d], p[e], p[a]),
+                                        cornerAngle(p[e], p[a], p[d])});
+        score += 2.0 * std::max(0.0, widest - kRight);
+      }
       if (score < best) {
         best = score;
         best_start = s;
@@ -257,6 +265,44 @@ void extractQuadMesh(const TriangleMesh& mesh, const FieldLevel& level, const st
       neighbour_sets[b].insert(a);
     }
   }
+  // 4. Positions on the surface, normals from the cluster.
+  std::vector<Eigen::Vector3d> positions(m), normals(m);
+  const PointToMeshDistance surface(mesh);
+  for (std::size_t c = 0; c < m; ++c) {
+    positions[c] = surface.query(clusterMean(static_cast<std::int32_t>(c))).closest_point;
+    const double length = normal_sum[c].norm();
+    normals[c] = length > 0.0 ? Eigen::Vector3d(normal_sum[c] / length) : Eigen::Vector3d::UnitZ();
+  }
+
+  // Edges that run past another neighbour of both ends, within 0.3·s of it, skip a lattice point
+  // (Jakob et al. snap such thin triangles): the path through that point replaces them.
+  {
+    std::vector<std::pair<std::int32_t, std::int32_t>> spans;
+    for (std::int32_t a = 0; a < static_cast<std::int32_t>(m); ++a)
+      for (const std::int32_t b : neighbour_sets[a]) {
+        if (b <= a)
+          continue;
+        const Eigen::Vector3d ab = positions[b] - positions[a];
+        const double length2 = ab.squaredNorm();
+        if (length2 == 0.0)
+          continue;
+        for (const std::int32_t c : neighbour_sets[a]) {
+          if (c == b || !neighbour_sets[b].count(c))
+            continue;
+          const double t = (positions[c] - positions[a]).dot(ab) / length2;
+          if (t <= 0.0 || t >= 1.0)
+            continue;
+          if ((positions[a] + t * ab - positions[c]).norm() < 0.3 * scale) {
+            spans.emplace_back(a, b);
+            break;
+          }
+        }
+      }
+    for (const auto& [a, b] : spans) {
+      neighbour_sets[a].erase(b);
+      neighbour_sets[b].erase(a);
+    }
+  }
   // Prune dangling vertices (degree ≤ 1) until none is left: they bound no face.
   std::vector<std::int32_t> stack;
   for (std::size_t c = 0; c < m; ++c)
@@ -272,15 +318,6 @@ void extractQuadMesh(const TriangleMesh& mesh, const FieldLevel& level, const st
     neighbour_sets[other].erase(c);
     if (neighbour_sets[other].size() == 1)
       stack.push_back(other);
-  }
-
-  // 4. Positions on the surface, normals from the cluster.
-  std::vector<Eigen::Vector3d> positions(m), normals(m);
-  const PointToMeshDistance surface(mesh);
-  for (std::size_t c = 0; c < m; ++c) {
-    positions[c] = surface.query(clusterMean(static_cast<std::int32_t>(c))).closest_point;
-    const double length = normal_sum[c].norm();
-    normals[c] = length > 0.0 ? Eigen::Vector3d(normal_sum[c] / length) : Eigen::Vector3d::UnitZ();
   }
 
   // 5. Rotation system: neighbours sorted counter-clockwise about each vertex's normal.
@@ -310,22 +347,30 @@ void extractQuadMesh(const TriangleMesh& mesh, const FieldLevel& level, const st
   std::vector<char> used(dart_offset[m], 0);
   std::vector<std::vector<std::int32_t>> faces;
   std::set<std::vector<std::int32_t>> seen;
-  constexpr std::size_t kMaxFaceSize = 8;
+  // Faces of up to 8 sides are lattice defects (Jakob et al. split them); larger ones, up to 16,
+  // too when none of their vertices is on the input's boundary (a hole in the lattice, not in
+  // the surface).
+  constexpr std::size_t kMaxSplitFaceSize = 8, kMaxFaceSize = 16, kMaxWalk = 64;
+  std::vector<char> on_boundary(m, 0);
+  {
+    const EdgeFaceAdjacency adjacency = computeEdgeFaceAdjacency(mesh);
+    for (const MeshEdge& edge : adjacency.edges)
+      if (!edge.isManifold() || edge.isBoundary())
+        for (const std::int32_t v : {edge.v0, edge.v1})
+          if (cluster[v] >= 0)
+            on_boundary[cluster[v]] = 1;
+  }
   for (std::size_t a0 = 0; a0 < m; ++a0) {
     for (std::size_t k0 = 0; k0 < neighbours[a0].size(); ++k0) {
       if (used[dart_offset[a0] + k0])
         continue;
-      std::vector<std::int32_t> polygon;
+      std::vector<std::int32_t> walk;
       std::int32_t a = static_cast<std::int32_t>(a0), b = neighbours[a0][k0];
       std::size_t k = k0;
-      bool repeated = false;
       while (!used[dart_offset[a] + k]) {
         used[dart_offset[a] + k] = 1;
-        if (polygon.size() <= kMaxFaceSize) {
-          if (std::find(polygon.begin(), polygon.end(), a) != polygon.end())
-            repeated = true;
-          polygon.push_back(a);
-        }
+        if (walk.size() <= kMaxWalk)
+          walk.push_back(a);
         const std::size_t back = indexOf(b, a);
         const std::size_t deg = neighbours[b].size();
         const std::size_t next = (back + deg - 1) % deg;
@@ -333,15 +378,36 @@ void extractQuadMesh(const TriangleMesh& mesh, const FieldLevel& level, const st
         b = neighbours[a][next];
         k = next;
       }
-      if (repeated || polygon.size() < 3 || polygon.size() > kMaxFaceSize)
-        continue;  // open boundaries, holes and broken walks
-      std::vector<std::vector<std::int32_t>> pieces;
-      splitPolygon(polygon, positions, is_edge, pieces);
-      for (auto& piece : pieces) {
-        std::vector<std::int32_t> key = piece;
-        std::sort(key.begin(), key.end());
-        if (seen.insert(key).second)
-          faces.push_back(std::move(piece));
+      if (walk.size() > kMaxWalk)
+        continue;  // an open boundary or a large hole of the input
+      // A walk that meets a vertex twice (a pinch, or an edge walked both ways) is cut into its
+      // simple cycles; spurs give 2-cycles, which are dropped.
+      std::vector<std::vector<std::int32_t>> cycles;
+      std::vector<std::int32_t> stack;
+      for (const std::int32_t v : walk) {
+        const auto seen_at = std::find(stack.begin(), stack.end(), v);
+        if (seen_at != stack.end()) {
+          cycles.emplace_back(seen_at, stack.end());
+          stack.erase(seen_at + 1, stack.end());
+        } else {
+          stack.push_back(v);
+        }
+      }
+      cycles.push_back(stack);
+      for (const auto& polygon : cycles) {
+        if (polygon.size() < 3 || polygon.size() > kMaxFaceSize)
+          continue;
+        if (polygon.size() > kMaxSplitFaceSize &&
+            std::any_of(polygon.begin(), polygon.end(), [&](std::int32_t v) { return on_boundary[v]; }))
+          continue;  // a large face along the input's boundary is outside the surface
+        std::vector<std::vector<std::int32_t>> pieces;
+        splitPolygon(polygon, positions, is_edge, pieces);
+        for (auto& piece : pieces) {
+          std::vector<std::int32_t> key = piece;
+          std::sort(key.begin(), key.end());
+          if (seen.insert(key).second)
+            faces.push_back(std::move(piece));
+        }
       }
     }
   }

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <map>
 #include <string>
 
 namespace pcl {
@@ -19,6 +18,20 @@ TriangleMesh splitLongEdges(const TriangleMesh& mesh, double max_length, std::si
     throw Error("edge splitting: the maximum edge length must be positive and finite");
   TriangleMesh result = mesh;
   const double limit2 = max_length * max_length;
+  // Splitting a face whose longest edge is l into pieces of at most max_length makes about
+  // (l / max_length)² faces: refuse early instead of running out of memory.
+  double estimate = 0.0;
+  for (const Face& f : mesh.faces) {
+    double longest2 = 0.0;
+    for (int k = 0; k < 3; ++k)
+      longest2 = std::max(longest2, (mesh.vertices[f[k]] - mesh.vertices[f[(k + 1) % 3]]).squaredNorm());
+    estimate += std::max(1.0, longest2 / limit2);
+  }
+  if (estimate > static_cast<double>(max_faces))
+    throw Error("edge splitting: refining to edges of " + std::to_string(max_length) + " would make about " +
+                std::to_string(static_cast<long long>(std::min(estimate, 1e18))) + " faces, more than " +
+                std::to_string(max_faces) + " (the target length is too small for this mesh)");
+  using EdgeKey = std::pair<std::int32_t, std::int32_t>;
   for (;;) {
     // Edges longer than the limit, longest first (ties by vertex pair: deterministic).
     struct Long {
@@ -41,18 +54,28 @@ TriangleMesh splitLongEdges(const TriangleMesh& mesh, double max_length, std::si
     candidates.erase(std::unique(candidates.begin(), candidates.end(),
                                  [](const Long& x, const Long& y) { return x.a == y.a && x.b == y.b; }),
                      candidates.end());
-    // Faces of each edge.
-    std::map<std::pair<std::int32_t, std::int32_t>, std::vector<std::size_t>> edge_faces;
+    // Faces of each long edge, from a sorted list of (edge, face) pairs.
+    std::vector<std::pair<EdgeKey, std::size_t>> edge_face;
     for (std::size_t f = 0; f < result.faces.size(); ++f)
       for (int k = 0; k < 3; ++k) {
         const std::int32_t a = result.faces[f][k], b = result.faces[f][(k + 1) % 3];
-        edge_faces[{std::min(a, b), std::max(a, b)}].push_back(f);
+        const EdgeKey key{std::min(a, b), std::max(a, b)};
+        if ((result.vertices[key.first] - result.vertices[key.second]).squaredNorm() > limit2)
+          edge_face.emplace_back(key, f);
       }
+    std::sort(edge_face.begin(), edge_face.end());
+    const auto facesOf = [&](const EdgeKey& key) {
+      std::vector<std::size_t> faces;
+      auto it = std::lower_bound(edge_face.begin(), edge_face.end(), std::make_pair(key, std::size_t{0}));
+      for (; it != edge_face.end() && it->first == key; ++it)
+        faces.push_back(it->second);
+      return faces;
+    };
     // One split per face per round, so the faces an edge lists are still intact when it is split.
     std::vector<char> touched(result.faces.size(), 0);
     std::size_t splits = 0;
     for (const Long& edge : candidates) {
-      const auto& faces = edge_faces[{edge.a, edge.b}];
+      const std::vector<std::size_t> faces = facesOf({edge.a, edge.b});
       if (std::any_of(faces.begin(), faces.end(), [&](std::size_t f) { return touched[f]; }))
         continue;
       const std::int32_t mid = static_cast<std::int32_t>(result.vertices.size());

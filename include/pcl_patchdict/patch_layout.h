@@ -1,0 +1,42 @@
+// PatchLayout — where the patches of a surface go: coarse shape → field-aligned quad mesh → one
+// frame per quad plus overlap seeds (section 3.3 of Sarkar et al. 2017), in one call.
+#pragma once
+
+#include <pcl_patchdict/coarse_mesh_estimation.h>
+#include <pcl_patchdict/quad_frame_estimation.h>
+#include <pcl_patchdict/quad_remesher.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace pcl {
+namespace patchdict {
+
+struct PatchLayoutParameters {
+  double quad_length = 0.03;  ///< L, in the units of the surface given (normalised: unit cube)
+  int overlap = 1;            ///< k: 4k offset seeds per quad
+  int smoothing_iterations = 30;
+  CoarseMeshEstimation::Method smoothing = CoarseMeshEstimation::Method::Taubin;
+  std::uint64_t seed = 0;
+  int num_threads = 0;
+};
+
+struct PatchLayout {
+  TriangleMesh coarse;  ///< the smoothed shape the quads are laid on
+  QuadMesh quads;
+  std::vector<Eigen::Vector3d> seeds;
+  pcl::PointCloud<pcl::ReferenceFrame> frames;  ///< one per seed
+  std::vector<std::int32_t> seed_faces;         ///< the quad-mesh face of each seed
+  CoarseMeshEstimation::Report coarse_report;
+  QuadRemesher::Report quad_report;
+  double seconds_coarse = 0.0, seconds_quads = 0.0, seconds_frames = 0.0;
+};
+
+/** \brief The three stages in a row: CoarseMeshEstimation (a mesh is smoothed; a surface without
+  * faces is treated as a point cloud: Poisson, trimming, smoothing), QuadRemesher on the coarse
+  * shape, QuadFrameEstimation on the quads. Throws Error from any stage, and when the quad mesh
+  * comes out without faces (L too large for the shape). */
+void computePatchLayout(const TriangleMesh& surface, const PatchLayoutParameters& parameters, PatchLayout& out);
+
+}  // namespace patchdict
+}  // namespace pcl
