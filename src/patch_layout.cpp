@@ -41,7 +41,8 @@ void computePatchLayout(const TriangleMesh& surface, const PatchLayoutParameters
   remesher.setNumberOfThreads(parameters.num_threads);
   remesher.process(out.quads, &out.quad_report);
   out.seconds_quads = since(t);
-  if (out.quads.faces.empty()) {
+  // Fewer faces than a cube has cannot describe a surface: the lattice is coarser than the shape.
+  if (out.quads.faces.size() < 6) {
     std::ostringstream message;
     message << "the quad mesh has no faces: the quad length " << parameters.quad_length
             << " is too large for this shape (its bounding box is " << out.coarse.boundingBoxDiagonal()

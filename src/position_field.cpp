@@ -144,19 +144,70 @@ std::vector<std::vector<Eigen::Vector3d>> restrictOrientationField(const FieldHi
 
 namespace {
 
-/** One Gauss–Seidel update of origin i (ALGORITHMS.md 2.3 "Smoothing one vertex"). */
-void smoothPositionVertex(const FieldLevel& level, const std::vector<Eigen::Vector3d>& q,
+/** Per level, what the sweeps reuse: t = n × q per vertex, and the middle point of every directed
+  * edge (it depends only on positions and normals). */
+struct LevelCache {
+  std::vector<Eigen::Vector3d> t;
+  std::vector<Eigen::Vector3d> middle;  ///< parallel to level.adjacency
+};
+
+LevelCache makeLevelCache(const FieldLevel& level, const std::vector<Eigen::Vector3d>& q, int threads)
+{
+  LevelCache cache;
+  const std::int64_t n = static_cast<std::int64_t>(level.numVertices());
+  cache.t.resize(level.numVertices());
+  cache.middle.resize(level.adjacency.size());
+#pragma omp parallel for num_threads(threads) schedule(static) if (n > 4096)
+  for (std::int64_t i = 0; i < n; ++i) {
+    cache.t[i] = level.normals[i].cross(q[i]);
+    for (std::int32_t e = level.adjacency_offsets[i]; e < level.adjacency_offsets[i + 1]; ++e) {
+      const std::int32_t j = level.adjacency[e];
+      cache.middle[e] = middlePoint(level.positions[i], level.normals[i], level.positions[j], level.normals[j]);
+    }
+  }
+  return cache;
+}
+
+/** The corner of the cell of lattice (o, q, t, s) that contains p. */
+inline Eigen::Vector3d floorCorner(const Eigen::Vector3d& o, const Eigen::Vector3d& q, const Eigen::Vector3d& t,
+                                   const Eigen::Vector3d& p, double scale, double inverse_scale)
+{
+  const Eigen::Vector3d d = p - o;
+  return o + q * (std::floor(q.dot(d) * inverse_scale) * scale) + t * (std::floor(t.dot(d) * inverse_scale) * scale);
+}
+
+/** One Gauss–Seidel update of origin i (ALGORITHMS.md 2.3 "Smoothing one vertex"), with the
+  * same arithmetic as compatPositionExtrinsic4 but the per-level constants taken from the cache. */
+void smoothPositionVertex(const FieldLevel& level, const std::vector<Eigen::Vector3d>& q, const LevelCache& cache,
                           std::vector<Eigen::Vector3d>& o, std::int32_t i, double scale)
 {
+  const double inverse_scale = 1.0 / scale;
   const Eigen::Vector3d& v_i = level.positions[i];
   const Eigen::Vector3d& n_i = level.normals[i];
+  const Eigen::Vector3d sq_i = scale * q[i], st_i = scale * cache.t[i];
   Eigen::Vector3d sum = o[i];
   double weight_sum = 0.0;
   for (std::int32_t e = level.adjacency_offsets[i]; e < level.adjacency_offsets[i + 1]; ++e) {
     const std::int32_t j = level.adjacency[e];
     const double w = level.adjacency_weights[e];
-    const auto ab = compatPositionExtrinsic4(v_i, n_i, q[i], sum, level.positions[j], level.normals[j], q[j], o[j], scale);
-    sum = (ab.first * weight_sum + ab.second * w) / (weight_sum + w);
+    const Eigen::Vector3d& middle = cache.middle[e];
+    const Eigen::Vector3d c0 = floorCorner(sum, q[i], cache.t[i], middle, scale, inverse_scale);
+    const Eigen::Vector3d c1 = floorCorner(o[j], q[j], cache.t[j], middle, scale, inverse_scale);
+    const Eigen::Vector3d sq_j = scale * q[j], st_j = scale * cache.t[j];
+    Eigen::Vector3d corners0[4] = {c0, c0 + sq_i, c0 + st_i, c0 + sq_i + st_i};
+    Eigen::Vector3d corners1[4] = {c1, c1 + sq_j, c1 + st_j, c1 + sq_j + st_j};
+    double best = std::numeric_limits<double>::infinity();
+    int best_a = 0, best_b = 0;
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) {
+        const double d = (corners0[a] - corners1[b]).squaredNorm();
+        if (d < best) {
+          best = d;
+          best_a = a;
+          best_b = b;
+        }
+      }
+    sum = (corners0[best_a] * weight_sum + corners1[best_b] * w) / (weight_sum + w);
     weight_sum += w;
     sum -= n_i * n_i.dot(sum - v_i);
   }
@@ -196,13 +247,14 @@ std::vector<Eigen::Vector3d> computePositionField(const FieldHierarchy& hierarch
   for (int l = coarsest; l >= 0; --l) {
     const FieldLevel& level = hierarchy.levels[l];
     const std::vector<Eigen::Vector3d>& q = orientation[l];
+    const LevelCache cache = makeLevelCache(level, q, threads);
     for (int iteration = 0; iteration < parameters.iterations_per_level; ++iteration) {
       for (const auto& phase : level.phases) {
         const std::int64_t size = static_cast<std::int64_t>(phase.size());
         // Vertices of one phase are pairwise non-adjacent: the parallel sweep equals the serial one.
 #pragma omp parallel for num_threads(threads) schedule(static) if (size > 1024)
         for (std::int64_t p = 0; p < size; ++p)
-          smoothPositionVertex(level, q, o, phase[p], scale);
+          smoothPositionVertex(level, q, cache, o, phase[p], scale);
       }
     }
     if (l == 0)

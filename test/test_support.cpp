@@ -1,6 +1,8 @@
 #include "test_support.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -65,5 +67,42 @@ ToolResult runTool(const std::string& arguments)
 
 std::string dataDir() { return PCL_PATCHDICT_DATA_DIR; }
 std::string testDataDir() { return PCL_PATCHDICT_TEST_DATA_DIR; }
+
+// The number after "key": in a flat part of a JSON object (NaN if absent or null).
+double jsonNumber(const std::string& json, const std::string& key)
+{
+  const std::string needle = "\"" + key + "\": ";
+  const auto at = json.find(needle);
+  if (at == std::string::npos)
+    return std::nan("");
+  const char* start = json.c_str() + at + needle.size();
+  char* end = nullptr;
+  const double value = std::strtod(start, &end);
+  return end == start ? std::nan("") : value;
+}
+
+bool isOneLine(const std::string& text)
+{
+  return !text.empty() && std::count(text.begin(), text.end(), '\n') == 1 && text.back() == '\n';
+}
+
+// Progress lines may precede it, but an error is exactly one line, the last, saying "error:".
+bool endsWithOneErrorLine(const std::string& err)
+{
+  if (err.empty() || err.back() != '\n')
+    return false;
+  std::size_t error_lines = 0, start = 0;
+  std::string last;
+  while (start < err.size()) {
+    const auto end = err.find('\n', start);
+    last = err.substr(start, end - start);
+    error_lines += last.find("error:") != std::string::npos;
+    start = end + 1;
+  }
+  return error_lines == 1 && last.find("error:") != std::string::npos;
+}
+
+std::string q(const std::string& path) { return "'" + path + "'"; }
+
 
 }  // namespace test_support

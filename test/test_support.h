@@ -33,6 +33,15 @@ std::string readFile(const std::string& path);
 /** Writes bytes to a file (test fixtures). */
 void writeFile(const std::string& path, const std::string& bytes);
 
+/** The number after "key": in a flat part of a JSON object (NaN if absent or null). */
+double jsonNumber(const std::string& json, const std::string& key);
+/** Exactly one line, ending in a newline. */
+bool isOneLine(const std::string& text);
+/** Progress lines may precede it, but an error is exactly one line, the last, saying "error:". */
+bool endsWithOneErrorLine(const std::string& err);
+/** The path in single quotes, for runTool's shell command line. */
+std::string q(const std::string& path);
+
 /** Directory of the bundled data (data/) and test fixtures (test/data). */
 std::string dataDir();
 std::string testDataDir();

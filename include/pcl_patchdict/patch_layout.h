@@ -35,7 +35,7 @@ struct PatchLayout {
 /** \brief The three stages in a row: CoarseMeshEstimation (a mesh is smoothed; a surface without
   * faces is treated as a point cloud: Poisson, trimming, smoothing), QuadRemesher on the coarse
   * shape, QuadFrameEstimation on the quads. Throws Error from any stage, and when the quad mesh
-  * comes out without faces (L too large for the shape). */
+  * comes out with fewer than 6 faces (L too large for the shape). */
 void computePatchLayout(const TriangleMesh& surface, const PatchLayoutParameters& parameters, PatchLayout& out);
 
 }  // namespace patchdict
