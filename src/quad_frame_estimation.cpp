@@ -37,16 +37,32 @@ Eigen::Matrix3d fromReferenceFrame(const pcl::ReferenceFrame& frame)
   return rows;
 }
 
+Eigen::Vector3d transportTangent(const Eigen::Vector3d& v, const Eigen::Vector3d& from_normal,
+                                 const Eigen::Vector3d& to_normal)
+{
+  // Rodrigues rotation about from × to by the angle between the normals (the discrete
+  // Levi-Civita transport across an edge); antiparallel normals fall back to a projection.
+  const Eigen::Vector3d axis = from_normal.cross(to_normal);
+  const double sine = axis.norm(), cosine = from_normal.dot(to_normal);
+  Eigen::Vector3d out;
+  if (sine < 1e-12) {
+    out = v - to_normal * to_normal.dot(v);
+  } else {
+    const Eigen::Vector3d k = axis / sine;
+    out = v * cosine + k.cross(v) * sine + k * k.dot(v) * (1.0 - cosine);
+    out -= to_normal * to_normal.dot(out);  // remove rounding off the plane
+  }
+  const double length = out.norm();
+  return length > 0.0 ? Eigen::Vector3d(out / length) : out;
+}
+
 double transportedXAngle(const Eigen::Matrix3d& frame_a, const Eigen::Matrix3d& frame_b)
 {
-  const Eigen::Vector3d z = frame_a.row(2).transpose();
-  Eigen::Vector3d xb = frame_b.row(0).transpose();
-  xb -= z * z.dot(xb);
-  const double length = xb.norm();
-  if (length == 0.0)
+  const Eigen::Vector3d xb = transportTangent(frame_b.row(0).transpose(), frame_b.row(2).transpose(),
+                                              frame_a.row(2).transpose());
+  if (xb.squaredNorm() == 0.0)
     return std::acos(0.0);
-  const Eigen::Vector3d xa = frame_a.row(0).transpose();
-  return std::acos(std::clamp(xa.dot(xb) / length, -1.0, 1.0));
+  return std::acos(std::clamp(frame_a.row(0).dot(xb.transpose()), -1.0, 1.0));
 }
 
 namespace {
@@ -65,14 +81,26 @@ Eigen::Vector3d orientedFaceNormal(const QuadMesh& mesh, std::size_t f)
   return n;
 }
 
-/** First side direction in the face plane: mean of the two opposite sides of a quad, the first
-  * side otherwise. Zero when degenerate. */
+/** First side direction in the face plane: for a quad, the bisector of its two side directions
+  * (each the mean of two opposite sides); the first side otherwise. Zero when degenerate. */
 Eigen::Vector3d sideDirection(const QuadMesh& mesh, std::size_t f, const Eigen::Vector3d& z)
 {
   const auto& face = mesh.faces[f];
-  Eigen::Vector3d d = mesh.vertices[face[1]] - mesh.vertices[face[0]];
-  if (face.size() == 4)
-    d += mesh.vertices[face[2]] - mesh.vertices[face[3]];
+  const auto unitInPlane = [&](Eigen::Vector3d v) {
+    v -= z * z.dot(v);
+    const double length = v.norm();
+    return length > 0.0 ? Eigen::Vector3d(v / length) : Eigen::Vector3d::Zero();
+  };
+  Eigen::Vector3d d = unitInPlane(mesh.vertices[face[1]] - mesh.vertices[face[0]]);
+  if (face.size() == 4) {
+    // All four sides: the X of the pair 0→1, 3→2 and the X implied by the pair 0→3, 1→2 (Y × Z),
+    // bisected, so a skewed quad gets the orthogonal frame closest to both of its side directions.
+    const Eigen::Vector3d a = unitInPlane(mesh.vertices[face[1]] - mesh.vertices[face[0]] +
+                                          mesh.vertices[face[2]] - mesh.vertices[face[3]]);
+    const Eigen::Vector3d b = unitInPlane(mesh.vertices[face[3]] - mesh.vertices[face[0]] +
+                                          mesh.vertices[face[2]] - mesh.vertices[face[1]]);
+    d = a + b.cross(z);
+  }
   d -= z * z.dot(d);
   const double length = d.norm();
   return length > 0.0 ? Eigen::Vector3d(d / length) : Eigen::Vector3d::Zero();
@@ -147,7 +175,7 @@ std::vector<Eigen::Matrix3d> QuadFrameEstimation::computeFaceFrames() const
         if (done[child] || !valid[child])
           continue;
         // Parent's X transported into the child's plane; the closest of the four side directions.
-        Eigen::Vector3d target = parent_x - z[child] * z[child].dot(parent_x);
+        const Eigen::Vector3d target = transportTangent(parent_x, z[parent], z[child]);
         const Eigen::Vector3d d1 = z[child].cross(d0[child]);
         const Eigen::Vector3d candidates[4] = {d0[child], d1, -d0[child], -d1};
         int best = 0;
@@ -158,6 +186,45 @@ std::vector<Eigen::Matrix3d> QuadFrameEstimation::computeFaceFrames() const
         queue.push(child);
       }
     }
+  }
+  // The traversal leaves seams where its fronts meet with different turns around singularities.
+  // Iterated conditional modes shorten them: each face takes, of its four side directions, the
+  // one that agrees (within 20°) with the most neighbours, ties kept as they are; sweeps in face
+  // order until nothing changes (a local minimum of the number of disagreeing pairs).
+  const double agree = std::cos(20.0 * 3.14159265358979323846 / 180.0);
+  for (int sweep = 0; sweep < 100; ++sweep) {
+    bool changed = false;
+    for (std::size_t f = 0; f < num_faces; ++f) {
+      if (!done[f] || adjacent[f].empty())
+        continue;
+      const Eigen::Vector3d d1 = z[f].cross(d0[f]);
+      const Eigen::Vector3d candidates[4] = {d0[f], d1, -d0[f], -d1};
+      int votes[4] = {0, 0, 0, 0};
+      for (const std::int32_t g : adjacent[f]) {
+        if (!done[g])
+          continue;
+        const Eigen::Vector3d x = transportTangent(frames[g].row(0).transpose(), z[g], z[f]);
+        if (x.squaredNorm() == 0.0)
+          continue;
+        for (int k = 0; k < 4; ++k)
+          votes[k] += candidates[k].dot(x) > agree;
+      }
+      const Eigen::Vector3d current = frames[f].row(0).transpose();
+      int now = 0;
+      for (int k = 1; k < 4; ++k)
+        if (candidates[k].dot(current) > candidates[now].dot(current))
+          now = k;
+      int best = now;
+      for (int k = 0; k < 4; ++k)
+        if (votes[k] > votes[best])
+          best = k;
+      if (best != now) {
+        setFrame(f, candidates[best]);
+        changed = true;
+      }
+    }
+    if (!changed)
+      break;
   }
   return frames;
 }

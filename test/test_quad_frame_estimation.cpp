@@ -1,10 +1,17 @@
 // QuadFrameEstimation: orthonormal frames, Z along the surface normal, X consistent across quads,
 // seeds and overlap offsets where the paper puts them.
 #include <pcl_patchdict/error.h>
+#include <pcl_patchdict/mesh_hygiene.h>
+#include <pcl_patchdict/mesh_io.h>
+#include <pcl_patchdict/metrics.h>
+#include <pcl_patchdict/normalization.h>
+#include <pcl_patchdict/vertex_normals.h>
 #include <pcl_patchdict/patch_layout.h>
 #include <pcl_patchdict/quad_frame_estimation.h>
 #include <pcl_patchdict/quad_remesher.h>
 #include <pcl_patchdict/shapes.h>
+
+#include "test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -148,4 +155,39 @@ TEST(PatchLayout, TooLargeAQuadLengthIsAClearError)
   EXPECT_EQ(layout.seeds.size(), layout.frames.size());
   EXPECT_EQ(layout.seeds.size(), layout.seed_faces.size());
   EXPECT_GT(layout.quads.faces.size(), 500u);
+}
+
+TEST(PatchLayout, BunnyFramesMeetTheIssueBounds)
+{
+  // The bundled scan, as the pipeline sees it: cleaned, in the unit cube, L = 0.03.
+  TriangleMesh bunny;
+  readMesh(test_support::dataDir() + "/bunny.obj", bunny);
+  cleanMesh(bunny);
+  UnitCubeNormalization::fromMesh(bunny).apply(bunny);
+  PatchLayout layout;
+  computePatchLayout(bunny, PatchLayoutParameters{}, layout);
+  const QuadMeshStatistics stats = computeQuadMeshStatistics(layout.quads);
+  EXPECT_GE(stats.quad_fraction, 0.9);
+  EXPECT_GE(stats.interior_valence4_fraction, 0.85);
+  EXPECT_NEAR(stats.mean_edge_length, 0.03, 0.15 * 0.03);
+  EXPECT_EQ(stats.degenerate_faces, 0u);
+  EXPECT_EQ(stats.duplicate_faces, 0u);
+  // Z against the coarse surface's normal at the seed (interpolated vertex normals).
+  const PointToMeshDistance coarse(layout.coarse);
+  const auto normals = computeVertexNormals(layout.coarse);
+  std::size_t agreeing = 0;
+  for (std::size_t s = 0; s < layout.seeds.size(); ++s) {
+    const auto hit = coarse.query(layout.seeds[s]);
+    const Face& f = layout.coarse.faces[hit.face];
+    const Eigen::Vector3d &a = layout.coarse.vertices[f[0]], &b = layout.coarse.vertices[f[1]],
+                          &c = layout.coarse.vertices[f[2]], &p = hit.closest_point;
+    const double area = (b - a).cross(c - a).norm();
+    const double wa = (b - p).cross(c - p).norm() / area, wb = (c - p).cross(a - p).norm() / area;
+    const Eigen::Vector3d n = (wa * normals[f[0]] + wb * normals[f[1]] + (1 - wa - wb) * normals[f[2]]).normalized();
+    agreeing += fromReferenceFrame(layout.frames[s]).row(2).dot(n.transpose()) > 0.9;
+  }
+  EXPECT_GE(static_cast<double>(agreeing) / layout.seeds.size(), 0.95);
+  QuadFrameEstimation estimation;
+  estimation.setInputQuadMesh(layout.quads);
+  EXPECT_GE(consistentPairs(layout.quads, estimation.computeFaceFrames(), 20.0 * kDegree), 0.9);
 }

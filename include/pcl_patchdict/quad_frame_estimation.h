@@ -29,7 +29,7 @@ namespace patchdict {
   * side directions are the means of opposite sides (quads) or the first side (other faces),
   * projected onto the face plane. Of the four candidates ±d0, ±(Z×d0) for X, a breadth-first
   * traversal over faces sharing an edge picks the one closest to the parent face's X transported
-  * into this face's plane, so X agrees across the surface except around singularities of the
+  * into this face's plane (transportTangent), so X agrees across the surface except around singularities of the
   * field; Y = Z × X. Each connected component starts at its lowest-index face with X = d0. */
 class QuadFrameEstimation {
 public:
@@ -56,8 +56,13 @@ private:
   int overlap_ = 1;
 };
 
+/** A unit tangent of the plane with normal from_normal carried to the plane with normal to_normal
+  * by the smallest rotation between the two normals (discrete parallel transport across an edge). */
+Eigen::Vector3d transportTangent(const Eigen::Vector3d& v, const Eigen::Vector3d& from_normal,
+                                 const Eigen::Vector3d& to_normal);
+
 /** Angle in radians between the X axes of two frames once the second is transported to the first's
-  * tangent plane (projected and normalised); the measure of frame consistency across neighbours. */
+  * tangent plane (transportTangent); the measure of frame consistency across neighbours. */
 double transportedXAngle(const Eigen::Matrix3d& frame_a, const Eigen::Matrix3d& frame_b);
 
 }  // namespace patchdict
