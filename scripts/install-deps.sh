@@ -3,7 +3,7 @@
 # PCL 1.13 (libpcl-dev) brings Boost, Eigen 3.4, FLANN 1.9 and VTK 9.1 with it.
 set -euo pipefail
 
-packages=(g++ cmake make libpcl-dev libgtest-dev libbenchmark-dev)
+packages=(g++ cmake make libpcl-dev libgtest-dev libbenchmark-dev zlib1g-dev)
 
 missing=()
 for package in "${packages[@]}"; do

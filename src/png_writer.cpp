@@ -1,11 +1,13 @@
-// PNG (ISO/IEC 15948) with zlib stream of stored (uncompressed) deflate blocks (RFC 1950/1951):
-// larger files than libpng would write, but a contact sheet of a few hundred tiles is small.
+// PNG (ISO/IEC 15948) written directly, with zlib for the deflate stream (Debian's PCL is built
+// with DISABLE_PNG, and libpng would be one more dependency for two chunks of bookkeeping).
 #include <pcl_patchdict/error.h>
 #include <pcl_patchdict/png_writer.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+
+#include <zlib.h>
 
 namespace pcl {
 namespace patchdict {
@@ -47,47 +49,53 @@ void putChunk(std::string& out, const char type[4], const std::string& data)
 
 }  // namespace
 
-std::string encodeGrayPNG(int width, int height, const std::vector<std::uint8_t>& pixels)
+namespace {
+
+/** PNG of 8-bit samples, `channels` per pixel (1: greyscale, 3: RGB). */
+std::string encodePNG(int width, int height, int channels, const std::vector<std::uint8_t>& pixels)
 {
-  if (width <= 0 || height <= 0 || static_cast<std::size_t>(width) * static_cast<std::size_t>(height) != pixels.size())
+  if (width <= 0 || height <= 0 ||
+      static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(channels) !=
+          pixels.size())
     throw Error("PNG: image size does not match its pixels");
+  const std::size_t row = static_cast<std::size_t>(width) * static_cast<std::size_t>(channels);
   // Scanlines, each with filter byte 0 (none).
   std::string raw;
-  raw.reserve(static_cast<std::size_t>(height) * (static_cast<std::size_t>(width) + 1));
+  raw.reserve(static_cast<std::size_t>(height) * (row + 1));
   for (int y = 0; y < height; ++y) {
     raw.push_back('\0');
-    raw.append(reinterpret_cast<const char*>(pixels.data()) + static_cast<std::size_t>(y) * width,
-               static_cast<std::size_t>(width));
+    raw.append(reinterpret_cast<const char*>(pixels.data()) + static_cast<std::size_t>(y) * row, row);
   }
-  std::string zlib{'\x78', '\x01'};
-  std::uint32_t a = 1, b = 0;  // Adler-32
-  for (const char c : raw) {
-    a = (a + static_cast<std::uint8_t>(c)) % 65521u;
-    b = (b + a) % 65521u;
-  }
-  for (std::size_t offset = 0; offset < raw.size() || offset == 0; offset += 65535) {
-    const std::size_t size = std::min<std::size_t>(65535, raw.size() - offset);
-    const bool last = offset + size >= raw.size();
-    zlib.push_back(last ? '\x01' : '\x00');
-    zlib.push_back(static_cast<char>(size & 0xFF));
-    zlib.push_back(static_cast<char>(size >> 8));
-    zlib.push_back(static_cast<char>(~size & 0xFF));
-    zlib.push_back(static_cast<char>((~size >> 8) & 0xFF));
-    zlib.append(raw, offset, size);
-    if (last)
-      break;
-  }
-  putBigEndian(zlib, (b << 16) | a);
+  // zlib stream of the scanlines (RFC 1950), best compression: pictures are mostly flat colour.
+  uLongf packed_size = compressBound(static_cast<uLong>(raw.size()));
+  std::string zlib(packed_size, '\0');
+  if (compress2(reinterpret_cast<Bytef*>(&zlib[0]), &packed_size, reinterpret_cast<const Bytef*>(raw.data()),
+                static_cast<uLong>(raw.size()), 9) != Z_OK)
+    throw Error("PNG: compression failed");
+  zlib.resize(packed_size);
 
   std::string png("\x89PNG\r\n\x1a\n", 8);
   std::string header;
   putBigEndian(header, static_cast<std::uint32_t>(width));
   putBigEndian(header, static_cast<std::uint32_t>(height));
-  header += std::string{'\x08', '\x00', '\x00', '\x00', '\x00'};  // 8-bit greyscale, no interlace
+  // 8-bit samples, colour type 0 (greyscale) or 2 (RGB), no interlace.
+  header += std::string{'\x08', channels == 3 ? '\x02' : '\x00', '\x00', '\x00', '\x00'};
   putChunk(png, "IHDR", header);
   putChunk(png, "IDAT", zlib);
   putChunk(png, "IEND", "");
   return png;
+}
+
+}  // namespace
+
+std::string encodeGrayPNG(int width, int height, const std::vector<std::uint8_t>& pixels)
+{
+  return encodePNG(width, height, 1, pixels);
+}
+
+std::string encodeRGBPNG(int width, int height, const std::vector<std::uint8_t>& pixels)
+{
+  return encodePNG(width, height, 3, pixels);
 }
 
 std::vector<std::uint8_t> contactSheet(const std::vector<std::vector<double>>& tiles, int grid, int columns,

@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include <zlib.h>
+
 #include <Eigen/Dense>
 
 #include <cstring>
@@ -180,21 +182,16 @@ TEST(PatchDictionary, AtomsContactSheetIsAValidPNG)
   // 4 columns × 3 rows of 8×8 bins at 3 px, with 1-px gaps.
   EXPECT_EQ(be32(16), 4u * (24 + 1) + 1);
   EXPECT_EQ(be32(20), 3u * (24 + 1) + 1);
-  // IDAT: a zlib stream of stored blocks whose payload is height × (1 + width) bytes.
+  // IDAT: a zlib stream that inflates to height × (1 + width) bytes, each row with filter 0.
   const std::size_t idat = png.find("IDAT");
   ASSERT_NE(idat, std::string::npos);
   const std::uint32_t length = be32(idat - 4);
-  std::size_t at = idat + 4 + 2, payload = 0;
-  while (true) {
-    const bool last = png[at] & 1;
-    const std::size_t size = static_cast<std::uint8_t>(png[at + 1]) | (static_cast<std::uint8_t>(png[at + 2]) << 8);
-    payload += size;
-    at += 5 + size;
-    if (last)
-      break;
-  }
-  EXPECT_EQ(payload, static_cast<std::size_t>(be32(20)) * (1 + be32(16)));
-  EXPECT_EQ(at + 4, idat + 4 + length);  // Adler-32 closes the stream
+  std::vector<unsigned char> raw(static_cast<std::size_t>(be32(20)) * (1 + be32(16)) + 16);
+  uLongf raw_size = static_cast<uLongf>(raw.size());
+  ASSERT_EQ(uncompress(raw.data(), &raw_size, reinterpret_cast<const Bytef*>(png.data() + idat + 4), length), Z_OK);
+  EXPECT_EQ(raw_size, static_cast<uLongf>(be32(20)) * (1 + be32(16)));
+  for (std::uint32_t y = 0; y < be32(20); ++y)
+    EXPECT_EQ(raw[y * (1 + be32(16))], 0);
 }
 
 TEST(PatchDictionary, MaskedCodingOfRealBunnyPatches)

@@ -1,4 +1,4 @@
-// A minimal PNG encoder (8-bit greyscale, stored deflate blocks): enough for contact sheets of
+// A minimal PNG encoder (8-bit greyscale or RGB, zlib-compressed): enough for contact sheets of
 // atoms and patches without a libpng dependency (Debian's PCL is built with DISABLE_PNG).
 #pragma once
 
@@ -12,6 +12,8 @@ namespace patchdict {
 /** PNG file bytes of a width × height greyscale image (pixels row-major, one byte each).
   * Throws Error on a size mismatch or an empty image. */
 std::string encodeGrayPNG(int width, int height, const std::vector<std::uint8_t>& pixels);
+/** The same for an RGB image (three bytes per pixel, R, G, B). */
+std::string encodeRGBPNG(int width, int height, const std::vector<std::uint8_t>& pixels);
 
 /** Tiles square height maps (each a column of `values`, grid × grid, row-major bins) into a
   * contact sheet: every tile scaled to its own [min, max], `scale` pixels per bin, 1-pixel gaps.
