@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <omp.h>
 #include <sstream>
@@ -226,6 +227,24 @@ void note(bool quiet, const std::string& text)
 {
   if (!quiet)
     std::cerr << text << '\n';
+}
+
+bool sameFile(const std::string& a, const std::string& b)
+{
+  std::error_code error;
+  if (std::filesystem::exists(a, error) && std::filesystem::exists(b, error))
+    return std::filesystem::equivalent(a, b, error) && !error;
+  const auto ca = std::filesystem::weakly_canonical(a, error);
+  if (error)
+    return false;
+  const auto cb = std::filesystem::weakly_canonical(b, error);
+  return !error && ca == cb;
+}
+
+void refuseOverwritingInput(const std::string& output, const std::string& input)
+{
+  if (!output.empty() && sameFile(output, input))
+    throw Error("the output '" + output + "' is the input file; inputs are never overwritten");
 }
 
 TriangleMesh loadMesh(const std::string& path, bool quiet, ReadInfo* info)

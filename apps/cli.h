@@ -85,6 +85,12 @@ private:
 /** Reads a mesh with the reader's notes and the hygiene summary printed to stderr (unless quiet). */
 TriangleMesh loadMesh(const std::string& path, bool quiet, ReadInfo* info = nullptr);
 
+/** True when both names lead to the same file (an output that would overwrite the input). */
+bool sameFile(const std::string& a, const std::string& b);
+
+/** Throws Error when `output` (if not empty) is the same file as `input`. */
+void refuseOverwritingInput(const std::string& output, const std::string& input);
+
 /** Progress/notes line on stderr unless quiet. */
 void note(bool quiet, const std::string& text);
 
@@ -94,6 +100,10 @@ int runInfo(const std::vector<std::string>& args);
 int runEval(const std::vector<std::string>& args);
 int runDemo(const std::vector<std::string>& args);
 int runLearn(const std::vector<std::string>& args);
+int runPatches(const std::vector<std::string>& args);
+int runReconstruct(const std::vector<std::string>& args);
+int runFillHoles(const std::vector<std::string>& args);
+int runQuads(const std::vector<std::string>& args);
 
 }  // namespace cli
 }  // namespace patchdict

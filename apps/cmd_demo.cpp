@@ -3,11 +3,11 @@
 // normalisation, the metrics on a copy perturbed along its normals, and the patch engine — exact
 // height maps, a learned dictionary, sparse codes, and masked coding filling a hole in each patch.
 #include "cli.h"
+#include "patch_seeds.h"
 
 #include <pcl_patchdict/height_map_patch_extractor.h>
 #include <pcl_patchdict/mesh_hygiene.h>
 #include <pcl_patchdict/patch_dictionary.h>
-#include <pcl_patchdict/surface_sampling.h>
 #include <pcl_patchdict/metrics.h>
 #include <pcl_patchdict/normalization.h>
 #include <pcl_patchdict/vertex_normals.h>
@@ -83,17 +83,14 @@ int runDemo(const std::vector<std::string>& raw)
   const double rmse = vertexRMSE(mesh, noisy);
   const SurfaceDistance distance = surfaceDistance(mesh, noisy, 200000, seed);
 
-  // Patches at random surface points with face-normal frames (the quad-mesh frames of the paper
-  // arrive with the quad stage): 16×16 exact height maps of side 0.03.
+  // Patches at random surface points with frames from the interpolated normal (the quad-mesh
+  // frames of the paper arrive with the quad stage): 16×16 exact height maps of side 0.03.
   timer.start("patches");
   const int grid = 16, train_count = 2000, test_count = 1000;
-  const SurfaceSamples seeds = sampleSurfaceUniform(mesh, train_count + test_count, seed + 7);
-  pcl::PointCloud<pcl::ReferenceFrame> frames;
-  for (const auto face : seeds.face_ids)
-    frames.push_back(referenceFrameFromNormal(mesh.faceNormal(static_cast<std::size_t>(face))));
+  const SeedsAndFrames seeds = randomSeedsAndFrames(mesh, train_count + test_count, seed + 7);
   HeightMapPatchExtractor extractor;
   extractor.setInputMesh(mesh);
-  extractor.setSeeds(seeds.points, frames);
+  extractor.setSeeds(seeds.seeds, seeds.frames);
   extractor.setRadius(0.03 / std::sqrt(2.0));
   extractor.setGridSize(grid);
   PatchSet patches;

@@ -26,19 +26,27 @@ const std::vector<std::pair<std::string, Subcommand>>& subcommands()
       {"info", {cli::runInfo, "info IN [--json]", "statistics and hygiene report of a mesh or cloud"}},
       {"eval", {cli::runEval, "eval REF OUT [--vertices IDX.txt] [--samples N] [--absolute] [--json]",
                 "vertex RMSE, symmetric surface distance, Hausdorff and PSNR of OUT against REF"}},
-      {"quads", {{}, "quads IN -o QUADS.obj", "coarse mesh + field-aligned quad mesh"}},
-      {"patches", {{}, "patches IN -o PATCHES.pds [--png SHEET.png]", "height-map patch set"}},
+      {"quads", {cli::runQuads,
+                 "quads IN -o QUADS.obj [--quad-length L] [--overlap K] [--frames FRAMES.ply] [--coarse COARSE.ply] "
+                 "[--json]",
+                 "coarse shape, field-aligned quad mesh, and the seeds with their frames"}},
+      {"patches", {cli::runPatches,
+                   "patches IN -o PATCHES.pds [--png SHEET.png] [--grid N] [--quad-length L] [--overlap K] [--json]",
+                   "height-map patch set (unit-cube units)"}},
       {"learn", {cli::runLearn,
                  "learn IN.pds... -o DICT.pdd [--atoms K] [--sparsity S] [--iterations T] [--method ksvd|online] "
                  "[--remove-mean] [--png ATOMS.png]",
                  "learn a patch dictionary from patch sets (local: one, global: many)"}},
-      {"reconstruct", {{}, "reconstruct IN [--dict DICT.pdd] -o OUT", "patch round trip"}},
+      {"reconstruct", {cli::runReconstruct,
+                       "reconstruct IN -o OUT [--dict DICT.pdd [--sparsity S]] [--rule bilinear|bin-centres] [--json]",
+                       "surface -> patches -> surface round trip (identity, or through a dictionary), scored"}},
       {"compress", {{}, "compress IN --dict DICT.pdd -o OUT.pdc", "compress as quad mesh + sparse codes"}},
       {"decompress", {{}, "decompress IN.pdc --dict DICT.pdd -o OUT", "decode a .pdc file"}},
       {"denoise", {{}, "denoise IN [--dict DICT.pdd] -o OUT", "denoise with a patch dictionary"}},
       {"inpaint", {{}, "inpaint IN --missing IDX.txt [--dict DICT.pdd | --no-patches] -o OUT",
                    "recover missing vertices"}},
-      {"fill-holes", {{}, "fill-holes IN [--dict DICT.pdd | --no-patches] -o OUT", "fill holes"}},
+      {"fill-holes", {cli::runFillHoles, "fill-holes IN --no-patches -o OUT [--max-hole-edges E] [--max-hole-diameter D] [--absolute]",
+                      "fill holes: Liepa's triangulate-refine-fair (--no-patches; the patch-based fill is not in this version yet)"}},
   };
   return table;
 }

@@ -2,12 +2,90 @@
 #include <pcl_patchdict/patch_layout.h>
 
 #include <pcl_patchdict/error.h>
+#include <pcl_patchdict/metrics.h>
+#include <pcl_patchdict/vertex_normals.h>
+
+#include <pcl/kdtree/kdtree_flann.h>
 
 #include <chrono>
+#include <cmath>
 #include <sstream>
 
 namespace pcl {
 namespace patchdict {
+
+namespace {
+
+/** Input vertices that no patch reaches (ball of radius L/√2 around the seed, square of side L in
+  * its frame) lie where the quad mesh has no faces — open boundaries, the lattice's rare holes —
+  * and would otherwise only be guessed from their neighbours. Each gets a seed of its own, greedily
+  * in vertex order: Z its vertex normal, X the X of the nearest existing seed carried over by
+  * parallel transport. Returns the number of seeds added (their seed_faces are −1). */
+std::size_t addCoverageSeeds(const TriangleMesh& surface, double quad_length, PatchLayout& layout)
+{
+  if (layout.seeds.empty())
+    return 0;
+  const double radius = quad_length / std::sqrt(2.0), half_side = 0.5 * quad_length;
+  pcl::PointCloud<pcl::PointXYZ>::Ptr vertices(new pcl::PointCloud<pcl::PointXYZ>);
+  for (const auto& v : surface.vertices)
+    vertices->push_back(pcl::PointXYZ(static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())));
+  pcl::KdTreeFLANN<pcl::PointXYZ> vertex_tree;
+  vertex_tree.setInputCloud(vertices);
+  std::vector<char> covered(surface.vertices.size(), 0);
+  std::vector<char> used(surface.vertices.size(), 0);
+  for (const Face& f : surface.faces)
+    for (const std::int32_t v : f)
+      used[v] = 1;
+  std::vector<int> indices;
+  std::vector<float> distances;
+  const std::vector<Eigen::Vector3d> normals = computeVertexNormals(surface);
+  const auto cover = [&](const Eigen::Vector3d& seed, const Eigen::Matrix3d& rows) {
+    vertex_tree.radiusSearch(pcl::PointXYZ(static_cast<float>(seed.x()), static_cast<float>(seed.y()),
+                                           static_cast<float>(seed.z())),
+                             static_cast<float>(radius), indices, distances);
+    for (const int v : indices) {
+      const Eigen::Vector3d local = rows * (surface.vertices[v] - seed);
+      // Same test as PatchMeshReconstruction's mapping: inside the square, not facing away.
+      if (std::abs(local.x()) < half_side && std::abs(local.y()) < half_side && rows.row(2).dot(normals[v]) >= 0.0)
+        covered[v] = 1;
+    }
+  };
+  for (std::size_t s = 0; s < layout.seeds.size(); ++s)
+    cover(layout.seeds[s], fromReferenceFrame(layout.frames[s]));
+
+  pcl::PointCloud<pcl::PointXYZ>::Ptr seed_cloud(new pcl::PointCloud<pcl::PointXYZ>);
+  for (const auto& s : layout.seeds)
+    seed_cloud->push_back(pcl::PointXYZ(static_cast<float>(s.x()), static_cast<float>(s.y()), static_cast<float>(s.z())));
+  pcl::KdTreeFLANN<pcl::PointXYZ> seed_tree;
+  seed_tree.setInputCloud(seed_cloud);
+  std::size_t added = 0;
+  for (std::size_t v = 0; v < surface.vertices.size(); ++v) {
+    if (covered[v] || !used[v] || normals[v].squaredNorm() == 0.0)
+      continue;
+    const Eigen::Vector3d& p = surface.vertices[v];
+    seed_tree.nearestKSearch(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())),
+                             1, indices, distances);
+    const Eigen::Matrix3d nearest = fromReferenceFrame(layout.frames[indices[0]]);
+    const Eigen::Vector3d z = normals[v];
+    Eigen::Vector3d x = transportTangent(nearest.row(0).transpose(), nearest.row(2).transpose(), z);
+    if (x.squaredNorm() == 0.0)
+      x = z.unitOrthogonal();
+    Eigen::Matrix3d rows;
+    rows.row(0) = x;
+    rows.row(1) = z.cross(x);
+    rows.row(2) = z;
+    layout.seeds.push_back(p);
+    layout.frames.push_back(toReferenceFrame(rows));
+    layout.seed_faces.push_back(-1);
+    cover(p, rows);
+    ++added;
+  }
+  layout.frames.width = static_cast<std::uint32_t>(layout.frames.size());
+  layout.frames.height = 1;
+  return added;
+}
+
+}  // namespace
 
 void computePatchLayout(const TriangleMesh& surface, const PatchLayoutParameters& parameters, PatchLayout& out)
 {
@@ -55,6 +133,19 @@ void computePatchLayout(const TriangleMesh& surface, const PatchLayoutParameters
   frames.setInputQuadMesh(out.quads);
   frames.setOverlap(parameters.overlap);
   frames.compute(out.seeds, out.frames, &out.seed_faces);
+  if (!surface.faces.empty()) {
+    // The quads lie on the coarse shape, which smoothing moved off the input (Laplacian
+    // smoothing shrinks); patches are sampled from the input, so centre them on it.
+    const PointToMeshDistance input(surface);
+    double moved = 0.0;
+    for (auto& seed : out.seeds) {
+      const Eigen::Vector3d on_surface = input.query(seed).closest_point;
+      moved += (on_surface - seed).norm();
+      seed = on_surface;
+    }
+    out.mean_seed_shift = out.seeds.empty() ? 0.0 : moved / static_cast<double>(out.seeds.size());
+    out.coverage_seeds = addCoverageSeeds(surface, parameters.quad_length, out);
+  }
   out.seconds_frames = since(t);
 }
 

@@ -1,12 +1,15 @@
 #include <pcl_patchdict/error.h>
 #include <pcl_patchdict/mesh_topology.h>
 #include <pcl_patchdict/patch_mesh_reconstruction.h>
+#include <pcl_patchdict/vertex_normals.h>
 
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_types.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 namespace pcl {
 namespace patchdict {
@@ -40,6 +43,11 @@ std::vector<VertexPatchSample> PatchMeshReconstruction::computeMapping() const
   // FLANN searches in float: widen a little, then decide exactly in double.
   const float search_radius = static_cast<float>(radius * (1.0 + 1e-5) + 1e-7);
   const auto count = static_cast<std::ptrdiff_t>(target_->vertices.size());
+  // A vertex facing away from the patch's Z is on another sheet (the inside of a thin wall, the
+  // far side of an ear): the patch sampled the sheet facing it, not this one.
+  const std::vector<Eigen::Vector3d> normals =
+      target_->faces.empty() ? std::vector<Eigen::Vector3d>(target_->vertices.size(), Eigen::Vector3d::Zero())
+                             : computeVertexNormals(*target_);
   std::vector<std::vector<VertexPatchSample>> per_vertex(static_cast<std::size_t>(count));
 #pragma omp parallel
   {
@@ -59,6 +67,8 @@ std::vector<VertexPatchSample> PatchMeshReconstruction::computeMapping() const
         const Eigen::Vector3d local = set.rotations[static_cast<std::size_t>(patch)] * offset;
         if (std::abs(local.x()) >= half_side || std::abs(local.y()) >= half_side)
           continue;
+        if (set.rotations[static_cast<std::size_t>(patch)].row(2).dot(normals[static_cast<std::size_t>(v)]) < 0.0)
+          continue;
         samples.push_back({static_cast<std::int32_t>(v), patch, local.x(), local.y(), local.z()});
       }
     }
@@ -75,8 +85,8 @@ void PatchMeshReconstruction::compute(TriangleMesh& out, Report* report) const
   const int grid = set.grid_size;
   const double side = set.side(), bin = side / grid, max_jump = 0.5 * side;
   const std::size_t n = target_->vertices.size();
-  std::vector<Eigen::Vector3d> sum(n, Eigen::Vector3d::Zero());
-  std::vector<int> estimates(n, 0);
+  // Estimates per vertex (the mapping is in vertex order), combined robustly below.
+  std::vector<std::vector<Eigen::Vector3d>> points(n);
 
   // Continuous bin coordinate of a tangent coordinate: bin centres sit at integers.
   auto binCoordinate = [&](double t) { return (t + 0.5 * side) / bin - 0.5; };
@@ -117,7 +127,10 @@ void PatchMeshReconstruction::compute(TriangleMesh& out, Report* report) const
           total += weight[c];
         }
       if (!all_seen) {
-        if (total < 0.5)
+        // A vertex on the rim of an open surface has unobserved bins on its outer side: the
+        // observed corners, renormalised, are still a far better height than its 1-ring's mean
+        // (measured on an open relief: 45 rim vertices carried 99.6 % of the squared error).
+        if (total < 1e-3)
           continue;
         h /= total;
       }
@@ -125,9 +138,48 @@ void PatchMeshReconstruction::compute(TriangleMesh& out, Report* report) const
     }
     if (std::abs(local.z() - sample.z) > max_jump)
       continue;  // another sheet of the surface crosses this patch: its height is not this vertex's
-    sum[static_cast<std::size_t>(sample.vertex)] +=
-        set.seeds[static_cast<std::size_t>(patch)] + set.rotations[static_cast<std::size_t>(patch)].transpose() * local;
-    ++estimates[static_cast<std::size_t>(sample.vertex)];
+    points[static_cast<std::size_t>(sample.vertex)].push_back(
+        set.seeds[static_cast<std::size_t>(patch)] + set.rotations[static_cast<std::size_t>(patch)].transpose() * local);
+  }
+
+  // With three or more estimates, those farther than 3 × their median distance from the
+  // coordinate-wise median (and more than a bin from it) come from another sheet of a folded
+  // surface or a badly tilted frame: they are dropped before averaging.
+  std::vector<Eigen::Vector3d> sum(n, Eigen::Vector3d::Zero());
+  std::vector<int> estimates(n, 0);
+  std::size_t rejected = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : rejected)
+  for (std::ptrdiff_t v = 0; v < static_cast<std::ptrdiff_t>(n); ++v) {
+    const auto& list = points[static_cast<std::size_t>(v)];
+    if (list.empty())
+      continue;
+    double limit = std::numeric_limits<double>::infinity();
+    Eigen::Vector3d median = Eigen::Vector3d::Zero();
+    if (list.size() >= 3) {
+      std::vector<double> values(list.size());
+      for (int c = 0; c < 3; ++c) {
+        for (std::size_t k = 0; k < list.size(); ++k)
+          values[k] = list[k][c];
+        std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2), values.end());
+        median[c] = values[values.size() / 2];
+      }
+      for (std::size_t k = 0; k < list.size(); ++k)
+        values[k] = (list[k] - median).norm();
+      std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2), values.end());
+      limit = std::max(3.0 * values[values.size() / 2], bin);
+    }
+    Eigen::Vector3d total = Eigen::Vector3d::Zero();
+    int count = 0;
+    for (const auto& p : list) {
+      if ((p - median).norm() > limit) {
+        ++rejected;
+        continue;
+      }
+      total += p;
+      ++count;
+    }
+    sum[static_cast<std::size_t>(v)] = total;
+    estimates[static_cast<std::size_t>(v)] = count;
   }
 
   TriangleMesh result;
@@ -168,6 +220,7 @@ void PatchMeshReconstruction::compute(TriangleMesh& out, Report* report) const
       changed = true;
     }
   }
+  local_report.estimates_rejected = rejected;
   local_report.vertices_unchanged = n - local_report.vertices_covered - local_report.vertices_from_ring;
   local_report.mean_estimates = local_report.vertices_covered
                                     ? static_cast<double>(total_estimates) / static_cast<double>(local_report.vertices_covered)

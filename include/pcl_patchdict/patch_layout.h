@@ -31,15 +31,20 @@ struct PatchLayout {
   QuadMesh quads;
   std::vector<Eigen::Vector3d> seeds;
   pcl::PointCloud<pcl::ReferenceFrame> frames;  ///< one per seed
-  std::vector<std::int32_t> seed_faces;         ///< the quad-mesh face of each seed
+  std::vector<std::int32_t> seed_faces;         ///< the quad-mesh face of each seed (−1: coverage seed)
   CoarseMeshEstimation::Report coarse_report;
   QuadRemesher::Report quad_report;
+  std::size_t coverage_seeds = 0;  ///< seeds added where no quad's patch reaches (seed_faces −1)
+  double mean_seed_shift = 0.0;  ///< mean distance the seeds moved from the quads onto the input
   double seconds_coarse = 0.0, seconds_quads = 0.0, seconds_frames = 0.0;
 };
 
 /** \brief The three stages in a row: CoarseMeshEstimation (a mesh is smoothed; a surface without
   * faces is treated as a point cloud: Poisson, trimming, smoothing), QuadRemesher on the coarse
-  * shape, QuadFrameEstimation on the quads. Throws Error from any stage, and when the quad mesh
+  * shape, QuadFrameEstimation on the quads; for a mesh input, the seeds are then moved to their
+  * closest points on the input (frames unchanged), so patches are centred on the surface they
+  * sample rather than on the smoothed one, and input vertices no patch reaches (open boundaries,
+  * the lattice's rare holes) get seeds of their own (see PatchLayout::coverage_seeds). Throws Error from any stage, and when the quad mesh
   * comes out with fewer than 6 faces (L too large for the shape). */
 void computePatchLayout(const TriangleMesh& surface, const PatchLayoutParameters& parameters, PatchLayout& out);
 

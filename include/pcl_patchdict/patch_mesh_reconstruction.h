@@ -22,7 +22,8 @@ struct VertexPatchSample {
   *
   * Mapping (the paper's vertex ↔ (patch, bin) map): vertex v belongs to patch p when it lies in
   * the patch's square (|x|, |y| < side/2 in the frame) and within its r-ball, as the surface the
-  * patch was sampled from does.
+  * patch was sampled from does, and its vertex normal does not face away from the frame's Z (a
+  * vertex on the inside of a thin wall belongs to the patches of that side).
   *
   * Rules:
   *  - BinCentres (the paper): v's estimate from p is the global position of the centre of the bin
@@ -35,8 +36,10 @@ struct VertexPatchSample {
   *    sampled surface, only displaced along it). Vertex positions are what inpainting is judged
   *    by, and FINDINGS.md shows tangential drift is what loses to the bi-Laplacian.
   * Estimates whose bins are unobserved, or whose height is more than half a patch side from the
-  * vertex's own (another sheet of a folded surface), are skipped. A vertex keeps the mean of its
-  * estimates; a vertex no patch covers takes the mean of its reconstructed 1-ring. */
+  * vertex's own (another sheet of a folded surface), are skipped. Of three or more estimates,
+  * those farther than 3 × their median distance from the coordinate-wise median (and more than
+  * a bin) are dropped as well. A vertex keeps the mean of its remaining estimates; a vertex no
+  * patch covers takes the mean of its reconstructed 1-ring. */
 class PatchMeshReconstruction {
 public:
   using Ptr = std::shared_ptr<PatchMeshReconstruction>;
@@ -48,7 +51,8 @@ public:
     std::size_t vertices_covered = 0;   ///< vertices with at least one patch estimate
     std::size_t vertices_from_ring = 0; ///< filled from their 1-ring
     std::size_t vertices_unchanged = 0; ///< no estimate and no reconstructed neighbour
-    double mean_estimates = 0.0;        ///< estimates per covered vertex
+    double mean_estimates = 0.0;        ///< estimates per covered vertex (after rejection)
+    std::size_t estimates_rejected = 0; ///< estimates dropped as far from their vertex's median
     std::vector<std::int32_t> estimates;  ///< per vertex: how many patches estimated it
   };
 

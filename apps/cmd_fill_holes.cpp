@@ -1,0 +1,125 @@
+// `pcl_patchdict fill-holes IN --no-patches -o OUT`: Liepa's triangulate–refine–fair alone.
+// The output keeps the input vertices first, bit-identical and in order, then the new ones.
+#include "cli.h"
+
+#include <pcl_patchdict/hole_filling.h>
+#include <pcl_patchdict/normalization.h>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <limits>
+#include <map>
+
+namespace pcl {
+namespace patchdict {
+namespace cli {
+
+namespace {
+
+const char* kUsage =
+    "pcl_patchdict fill-holes IN --no-patches -o OUT [--max-hole-edges E] [--max-hole-diameter D] [--absolute] "
+    "[--json]";
+
+}  // namespace
+
+int runFillHoles(const std::vector<std::string>& raw)
+{
+  auto value_options = commonValueOptions();
+  value_options.insert({"output", "max-hole-edges", "max-hole-diameter", "dict"});
+  auto flag_options = commonFlagOptions();
+  flag_options.insert({"no-patches", "absolute"});
+  const Arguments args(raw, value_options, flag_options);
+  args.expectPositionals(1, 1, kUsage);
+  if (!args.has("no-patches"))
+    throw UsageError("patch-based hole filling is not available in this version yet; "
+                     "use --no-patches for Liepa's triangulate-refine-fair fill alone");
+  if (args.has("dict"))
+    throw UsageError("--dict and --no-patches exclude each other");
+  if (!args.has("output"))
+    throw UsageError("usage: " + std::string(kUsage));
+  applyCommonOptions(args);
+  const bool quiet = args.has("quiet") || args.has("json");
+  const auto max_edges = static_cast<std::size_t>(args.getInt("max-hole-edges", 0, 0, 1LL << 40));
+  const double max_diameter =
+      args.getDouble("max-hole-diameter", std::numeric_limits<double>::infinity(), 0.0, 1e300);
+  const std::string in_path = args.positionals()[0], out_path = args.get("output");
+  refuseOverwritingInput(out_path, in_path);
+  if (formatFromPath(out_path) == MeshFormat::Unknown || formatFromPath(out_path) == MeshFormat::PCD)
+    throw Error("output '" + out_path + "' must be a mesh file (.ply, .obj, .off, .stl)");
+
+  StageTimer timer(quiet);
+  timer.start("load");
+  const TriangleMesh mesh = loadMesh(in_path, quiet);
+  if (mesh.faces.empty())
+    throw Error("'" + in_path + "' has no faces: fill-holes needs a triangle mesh");
+
+  timer.start("fill");
+  HoleFilling filler;
+  filler.setInputMesh(mesh);
+  filler.setMaxHoleEdges(max_edges);
+  double diameter_limit = max_diameter;
+  if (std::isfinite(max_diameter) && !args.has("absolute"))
+    diameter_limit = UnitCubeNormalization::fromMesh(mesh).invertLength(max_diameter);
+  filler.setMaxHoleDiameter(diameter_limit > 0.0 ? diameter_limit : std::numeric_limits<double>::min());
+  TriangleMesh filled;
+  HoleFilling::Report report;
+  filler.process(filled, &report);
+
+  timer.start("write");
+  writeMesh(out_path, filled);
+  timer.stop();
+
+  std::map<std::string, std::size_t> reasons;
+  for (const auto& hole : report.holes)
+    if (!hole.filled())
+      ++reasons[toString(hole.skipped)];
+
+  if (args.has("json")) {
+    JsonObject json;
+    json.add("command", "fill-holes").add("input", in_path).add("output", out_path).add("method", "liepa");
+    json.add("input_vertices", mesh.vertices.size()).add("input_faces", mesh.faces.size());
+    json.add("output_vertices", filled.vertices.size()).add("output_faces", filled.faces.size());
+    json.add("holes_found", report.holes_found).add("holes_filled", report.holes_filled);
+    json.add("holes_skipped", report.holes_skipped);
+    JsonObject skipped;
+    for (const auto& [reason, count] : reasons)
+      skipped.add(reason, count);
+    json.add("skipped_reasons", skipped);
+    json.add("new_vertices", report.new_vertices).add("new_faces", report.new_faces);
+    json.add("fairing_solved", report.fairing_solved);
+    JsonObject holes;
+    for (std::size_t h = 0; h < report.holes.size(); ++h) {
+      const auto& hole = report.holes[h];
+      JsonObject entry;
+      entry.add("edges", hole.boundary.size()).add("length", hole.length).add("diameter", hole.diameter);
+      entry.add("status", toString(hole.skipped));
+      entry.add("new_vertices", hole.new_vertices.size()).add("new_faces", hole.new_faces.size());
+      holes.add(std::to_string(h), entry);
+    }
+    json.add("holes", holes);
+    JsonObject seconds = timer.json();
+    seconds.add("triangulation", report.seconds_triangulation)
+        .add("refinement", report.seconds_refinement)
+        .add("fairing", report.seconds_fairing);
+    json.add("seconds", seconds);
+    std::cout << json.str() << '\n';
+    return 0;
+  }
+  if (!args.has("quiet")) {
+    std::printf("fill-holes %s -> %s: %zu holes found, %zu filled, %zu skipped", in_path.c_str(), out_path.c_str(),
+                report.holes_found, report.holes_filled, report.holes_skipped);
+    const char* separator = " (";
+    for (const auto& [reason, count] : reasons) {
+      std::printf("%s%zu %s", separator, count, reason.c_str());
+      separator = ", ";
+    }
+    std::printf("%s; %zu new vertices, %zu new faces%s\n", reasons.empty() ? "" : ")", report.new_vertices,
+                report.new_faces, report.fairing_solved ? "" : " (fairing failed: fill left unfaired)");
+  }
+  return 0;
+}
+
+}  // namespace cli
+}  // namespace patchdict
+}  // namespace pcl

@@ -1,0 +1,129 @@
+// `pcl_patchdict patches IN -o X.pds`: the height-map patch set of a surface (section 3.2 of the
+// paper), in the input's unit-cube units, with an optional PNG contact sheet.
+#include "cli.h"
+#include "patch_seeds.h"
+
+#include <pcl_patchdict/coarse_mesh_estimation.h>
+#include <pcl_patchdict/height_map_patch_extractor.h>
+#include <pcl_patchdict/mesh_hygiene.h>
+#include <pcl_patchdict/normalization.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+namespace pcl {
+namespace patchdict {
+namespace cli {
+
+namespace {
+
+constexpr std::size_t kSheetPatches = 400;  // a contact sheet of every patch would be gigapixels
+
+JsonObject normalisationJson(const UnitCubeNormalization& normalization)
+{
+  JsonObject json;
+  json.add("center_x", normalization.center.x()).add("center_y", normalization.center.y());
+  json.add("center_z", normalization.center.z()).add("scale", normalization.scale);
+  return json;
+}
+
+}  // namespace
+
+int runPatches(const std::vector<std::string>& raw)
+{
+  auto value_options = commonValueOptions();
+  value_options.insert({"output", "png", "grid", "quad-length", "overlap", "placement"});
+  const Arguments args(raw, value_options, commonFlagOptions());
+  const std::string usage =
+      "pcl_patchdict patches IN -o X.pds [--png SHEET.png] [--grid N] [--quad-length L] [--overlap K] "
+      "[--placement quads|random] [--json]";
+  args.expectPositionals(1, 1, usage);
+  if (!args.has("output"))
+    throw UsageError("usage: " + usage);
+  applyCommonOptions(args);
+  const bool quiet = args.has("quiet") || args.has("json");
+  const int grid_size = static_cast<int>(args.getInt("grid", 16, 2, 64));
+  const double quad_length = args.getDouble("quad-length", 0.03, 1e-3, 0.5);
+  const int overlap = static_cast<int>(args.getInt("overlap", 1, 0, 16));
+  const SeedPlacement seed_placement = parseSeedPlacement(args.get("placement", "quads"));
+  const auto seed = static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62)));
+  const std::string input = args.positionals()[0], output = args.get("output"), png = args.get("png");
+  refuseOverwritingInput(output, input);
+  refuseOverwritingInput(png, input);
+  if (!png.empty() && sameFile(png, output))
+    throw UsageError("--png and -o name the same file");
+
+  StageTimer timer(quiet);
+  timer.start("load");
+  TriangleMesh surface = loadMesh(input, quiet);
+  const bool is_cloud = surface.faces.empty();
+  if (!is_cloud)
+    cleanMesh(surface);
+  const UnitCubeNormalization normalization = UnitCubeNormalization::fromMesh(surface);
+  normalization.apply(surface);
+
+  // Seeds live on a surface: the mesh itself, or for a cloud its coarse Poisson surface.
+  TriangleMesh placement;
+  CoarseMeshEstimation::Report coarse_report;
+  if (is_cloud) {
+    timer.start("coarse_surface");
+    pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
+    toPointCloud(surface, *cloud);
+    CoarseMeshEstimation coarse;
+    coarse.setInputCloud(cloud);
+    coarse.process(placement, &coarse_report);
+    note(quiet, "  coarse surface: Poisson depth " + std::to_string(coarse_report.poisson_depth) + ", " +
+                    std::to_string(placement.faces.size()) + " faces");
+  }
+  timer.start("seeds");
+  const SeedsAndFrames seeds =
+      computeSeedsAndFrames(is_cloud ? placement : surface, quad_length, overlap, seed, seed_placement);
+  timer.start("extract");
+  PatchSet patches;
+  if (is_cloud) {
+    HeightMapPatchExtractor extractor;
+    extractor.setInputCloud(surface);
+    extractor.setSeeds(seeds.seeds, seeds.frames);
+    extractor.setRadius(quad_length / std::sqrt(2.0));
+    extractor.setGridSize(grid_size);
+    extractor.compute(patches);
+  } else {
+    patches = extractMeshPatches(surface, seeds, quad_length, grid_size);
+  }
+  note(quiet, "  " + std::to_string(patches.numPatches()) + " patches of " + std::to_string(grid_size) + "×" +
+                  std::to_string(grid_size) + " bins, " +
+                  std::to_string(static_cast<int>(100.0 * patches.observedFraction() + 0.5)) + " % observed");
+  timer.start("save");
+  patches.save(output);
+  if (!png.empty())
+    patches.savePNG(png, 20, 4, kSheetPatches);
+  timer.stop();
+
+  if (args.has("json")) {
+    JsonObject json;
+    json.add("command", "patches").add("input", input).add("output", output);
+    json.add("input_kind", is_cloud ? "cloud" : "mesh").add("vertices", surface.vertices.size());
+    json.add("faces", surface.faces.size());
+    if (is_cloud)
+      json.add("poisson_depth", coarse_report.poisson_depth).add("coarse_faces", placement.faces.size());
+    json.add("patches", patches.numPatches()).add("grid_size", grid_size).add("quad_length", quad_length);
+    json.add("radius", patches.radius).add("overlap", overlap).add("placement", args.get("placement", "quads"));
+    json.add("observed_fraction", patches.observedFraction());
+    json.add("units", "unit-cube").add("normalisation", normalisationJson(normalization));
+    if (!png.empty())
+      json.add("png", png).add("png_patches", std::min(patches.numPatches(), kSheetPatches));
+    json.add("seconds", timer.json());
+    std::cout << json.str() << '\n';
+  } else if (!quiet) {
+    std::printf("%zu patches (%d×%d, side %.4g in unit-cube units, %.1f %% of bins observed) -> %s\n",
+                patches.numPatches(), grid_size, grid_size, quad_length, 100.0 * patches.observedFraction(),
+                output.c_str());
+  }
+  return 0;
+}
+
+}  // namespace cli
+}  // namespace patchdict
+}  // namespace pcl

@@ -1,0 +1,152 @@
+// `pcl_patchdict quads IN -o QUADS.obj`: the coarse shape, its field-aligned quad mesh and the
+// seeds with their frames — where the patches of IN go.
+#include "cli.h"
+
+#include <pcl_patchdict/atomic_file.h>
+#include <pcl_patchdict/mesh_hygiene.h>
+#include <pcl_patchdict/mesh_render.h>
+#include <pcl_patchdict/normalization.h>
+#include <pcl_patchdict/patch_layout.h>
+
+#include <array>
+#include <cctype>
+#include <iostream>
+#include <limits>
+#include <sstream>
+
+namespace pcl {
+namespace patchdict {
+namespace cli {
+
+namespace {
+
+const char* kUsage =
+    "pcl_patchdict quads IN -o QUADS.obj [--quad-length L] [--overlap K] [--frames FRAMES.ply] "
+    "[--coarse COARSE.ply] [--png PICTURE.png] [--smoothing laplacian|taubin] [--smoothing-iterations N] [--seed X] [--json]";
+
+/** Seeds with their frames as an ASCII PLY point set: x y z, then the X, Y and Z axes, then the face. */
+void writeFrames(const std::string& path, const UnitCubeNormalization& normalization, const PatchLayout& layout)
+{
+  std::ostringstream out;
+  out.precision(9);
+  out << "ply\nformat ascii 1.0\ncomment seeds and reference frames written by pcl_patchdict quads\n"
+      << "element vertex " << layout.seeds.size() << "\nproperty double x\nproperty double y\nproperty double z\n";
+  for (const char* axis : {"x_axis", "y_axis", "z_axis"})
+    for (const char* c : {"x", "y", "z"})
+      out << "property float " << axis << '_' << c << '\n';
+  out << "property int quad\nend_header\n";
+  for (std::size_t s = 0; s < layout.seeds.size(); ++s) {
+    const Eigen::Vector3d p = normalization.invert(layout.seeds[s]);
+    const auto& f = layout.frames[s];
+    out << p.x() << ' ' << p.y() << ' ' << p.z();
+    for (const float* axis : {f.x_axis, f.y_axis, f.z_axis})
+      out << ' ' << axis[0] << ' ' << axis[1] << ' ' << axis[2];
+    out << ' ' << layout.seed_faces[s] << '\n';
+  }
+  writeFileAtomically(path, out.str());
+}
+
+}  // namespace
+
+int runQuads(const std::vector<std::string>& raw)
+{
+  std::set<std::string> values = commonValueOptions();
+  values.insert({"output", "quad-length", "overlap", "frames", "coarse", "smoothing-iterations", "smoothing", "png"});
+  const Arguments args(raw, values, commonFlagOptions());
+  args.expectPositionals(1, 1, kUsage);
+  applyCommonOptions(args);
+  if (!args.has("output"))
+    throw UsageError(std::string("missing -o QUADS.obj; usage: ") + kUsage);
+  const std::string input = args.positionals()[0], output = args.get("output");
+  const bool quiet = args.has("quiet") || args.has("json");
+  PatchLayoutParameters parameters;
+  parameters.quad_length = args.getDouble("quad-length", 0.03, 1e-3, 0.5);
+  parameters.overlap = static_cast<int>(args.getInt("overlap", 1, 0, 16));
+  parameters.smoothing_iterations = static_cast<int>(args.getInt("smoothing-iterations", 30, 0, 10000));
+  const std::string smoothing = args.get("smoothing", "laplacian");
+  if (smoothing == "taubin")
+    parameters.smoothing = CoarseMeshEstimation::Method::Taubin;
+  else if (smoothing != "laplacian")
+    throw UsageError("--smoothing must be laplacian or taubin");
+  parameters.seed = static_cast<std::uint64_t>(args.getInt("seed", 0, 0, std::numeric_limits<long long>::max()));
+  for (const std::string& path : {output, args.get("frames"), args.get("coarse"), args.get("png")})
+    refuseOverwritingInput(path, input);
+  // Check the output's format before the work, not after.
+  std::string extension = output.substr(output.find_last_of('.') == std::string::npos ? output.size()
+                                                                                       : output.find_last_of('.') + 1);
+  for (char& c : extension)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension != "obj" && extension != "ply")
+    throw Error("cannot write '" + output + "': a quad mesh is written as .obj or .ply");
+
+  StageTimer timer(quiet);
+  timer.start("read");
+  TriangleMesh mesh = loadMesh(input, quiet);
+  if (!mesh.faces.empty())
+    cleanMesh(mesh);
+  const UnitCubeNormalization normalization = UnitCubeNormalization::fromMesh(mesh);
+  normalization.apply(mesh);
+
+  timer.start("layout");
+  PatchLayout layout;
+  computePatchLayout(mesh, parameters, layout);
+
+  timer.start("write");
+  QuadMesh quads = layout.quads;
+  for (auto& v : quads.vertices)
+    v = normalization.invert(v);
+  writeQuadMesh(output, quads);
+  if (args.has("frames"))
+    writeFrames(args.get("frames"), normalization, layout);
+  if (args.has("coarse")) {
+    TriangleMesh coarse = layout.coarse;
+    normalization.invert(coarse);
+    writeMesh(args.get("coarse"), coarse);
+  }
+  if (args.has("png")) {
+    // Quads light blue, triangles orange, larger faces red.
+    std::vector<std::array<std::uint8_t, 3>> colours;
+    for (const auto& face : quads.faces)
+      colours.push_back(face.size() == 4   ? std::array<std::uint8_t, 3>{170, 200, 235}
+                        : face.size() == 3 ? std::array<std::uint8_t, 3>{245, 170, 80}
+                                           : std::array<std::uint8_t, 3>{230, 60, 60});
+    writePolygonsPNG(args.get("png"), quads.vertices, quads.faces, colours);
+  }
+  timer.stop();
+
+  const QuadMeshStatistics stats = computeQuadMeshStatistics(layout.quads);
+  if (args.has("json")) {
+    JsonObject json;
+    json.add("command", "quads").add("input", input).add("output", output);
+    json.add("quad_length", parameters.quad_length).add("overlap", parameters.overlap);
+    json.add("coarse_faces", layout.coarse.faces.size()).add("coarse_area_change", layout.coarse_report.area_change).add("refined_faces", layout.quad_report.refined_faces);
+    json.add("vertices", stats.vertices).add("faces", stats.faces).add("quads", stats.quads);
+    json.add("triangles", stats.triangles).add("other_faces", stats.other_faces);
+    json.add("quad_fraction", stats.quad_fraction).add("interior_valence4_fraction", stats.interior_valence4_fraction);
+    json.add("singularities", layout.quad_report.orientation_singularities);
+    json.add("mean_edge_length", stats.mean_edge_length).add("mean_edge_length_input_units",
+                                                             normalization.invertLength(stats.mean_edge_length));
+    json.add("boundary_edges", stats.boundary_edges).add("nonmanifold_edges", stats.nonmanifold_edges);
+    json.add("seeds", layout.seeds.size()).add("mean_seed_shift", layout.mean_seed_shift);
+    JsonObject stages;
+    stages.add("coarse", layout.seconds_coarse)
+        .add("refine", layout.quad_report.seconds_refine)
+        .add("hierarchy", layout.quad_report.seconds_hierarchy)
+        .add("orientation_field", layout.quad_report.seconds_orientation)
+        .add("position_field", layout.quad_report.seconds_position)
+        .add("extraction", layout.quad_report.seconds_extraction)
+        .add("frames", layout.seconds_frames);
+    json.add("seconds_per_stage", stages).add("seconds", timer.json());
+    std::cout << json.str() << '\n';
+  } else {
+    std::cout << "wrote " << output << ": " << stats.faces << " faces (" << stats.quads << " quads, "
+              << stats.triangles << " triangles, " << stats.other_faces << " other), " << stats.vertices
+              << " vertices, " << layout.quad_report.orientation_singularities << " singularities, mean edge "
+              << normalization.invertLength(stats.mean_edge_length) << "; " << layout.seeds.size() << " seeds\n";
+  }
+  return 0;
+}
+
+}  // namespace cli
+}  // namespace patchdict
+}  // namespace pcl

@@ -1,0 +1,50 @@
+// Where the CLI puts its patches: seed points and their reference frames on a (unit-cube) mesh.
+// One function, so that the quad frames of QuadFrameEstimation can replace its body later.
+#pragma once
+
+#include <pcl_patchdict/patch_set.h>
+#include <pcl_patchdict/triangle_mesh.h>
+
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pcl {
+namespace patchdict {
+namespace cli {
+
+struct SeedsAndFrames {
+  std::vector<Eigen::Vector3d> seeds;
+  pcl::PointCloud<pcl::ReferenceFrame> frames;  ///< one per seed
+};
+
+enum class SeedPlacement {
+  Quads,  ///< the paper's: computePatchLayout (coarse shape, field-aligned quads, frames by traversal)
+  Random  ///< area-uniform random seeds, frames from the interpolated normal (a comparison baseline)
+};
+
+/** Seeds and frames for patches of side `quad_length` (radius quad_length / √2) at overlap level
+  * `overlap` (the paper's k: a quad gives its centre and 4k offset seeds).
+  * Quads (default): computePatchLayout on the mesh. Random: area-uniform random seeds (seeded,
+  * reproducible) with referenceFrameFromNormal at the surface normal interpolated from the vertex
+  * normals, 12·(1 + 4k)/5 per L² of area — 12 per patch area at k = 1, what random seeds need to
+  * leave almost no vertex uncovered (quad seeds do it with 5).
+  * Throws Error for a mesh without area or parameters out of range. */
+SeedsAndFrames computeSeedsAndFrames(const TriangleMesh& mesh, double quad_length, int overlap, std::uint64_t seed,
+                                     SeedPlacement placement = SeedPlacement::Quads);
+
+/** "quads" or "random" (UsageError otherwise). */
+SeedPlacement parseSeedPlacement(const std::string& name);
+
+/** Exact height maps of a (unit-cube) mesh at the given seeds: grid_size² bins, side quad_length. */
+PatchSet extractMeshPatches(const TriangleMesh& mesh, const SeedsAndFrames& seeds, double quad_length, int grid_size);
+
+/** The random placement itself, with an explicit count (the demo takes a fixed number). */
+SeedsAndFrames randomSeedsAndFrames(const TriangleMesh& mesh, std::size_t count, std::uint64_t seed);
+
+}  // namespace cli
+}  // namespace patchdict
+}  // namespace pcl
