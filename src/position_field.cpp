@@ -54,6 +54,35 @@ Eigen::Vector3d middlePoint(const Eigen::Vector3d& p0, const Eigen::Vector3d& n0
 
 namespace {
 
+/** Of the corners c0 + {0, s·q0} + {0, s·t0} and c1 + {0, s·q1} + {0, s·t1} (given as c, s·q, s·t),
+  * the closest pair: their indices (bit 0: +q, bit 1: +t), positions and squared distance. */
+struct CornerMatch {
+  int a = 0, b = 0;
+  Eigen::Vector3d p0, p1;
+  double squared_distance = 0.0;
+};
+
+inline CornerMatch closestCornerPair(const Eigen::Vector3d& c0, const Eigen::Vector3d& sq0, const Eigen::Vector3d& st0,
+                                     const Eigen::Vector3d& c1, const Eigen::Vector3d& sq1, const Eigen::Vector3d& st1)
+{
+  const Eigen::Vector3d corners0[4] = {c0, c0 + sq0, c0 + st0, c0 + sq0 + st0};
+  const Eigen::Vector3d corners1[4] = {c1, c1 + sq1, c1 + st1, c1 + sq1 + st1};
+  CornerMatch best;
+  best.squared_distance = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b) {
+      const double d = (corners0[a] - corners1[b]).squaredNorm();
+      if (d < best.squared_distance) {
+        best.squared_distance = d;
+        best.a = a;
+        best.b = b;
+      }
+    }
+  best.p0 = corners0[best.a];
+  best.p1 = corners1[best.b];
+  return best;
+}
+
 /** The closest pair of corners of the two cells containing the middle point; a and b receive the
   * corner offsets (0/1 along q and t) of the winners. */
 void closestCorners(const Eigen::Vector3d& v0, const Eigen::Vector3d& n0, const Eigen::Vector3d& q0,
@@ -65,24 +94,12 @@ void closestCorners(const Eigen::Vector3d& v0, const Eigen::Vector3d& n0, const 
   const Eigen::Vector3d middle = middlePoint(v0, n0, v1, n1);
   c0 = positionFloor4(o0, q0, n0, middle, scale);
   c1 = positionFloor4(o1, q1, n1, middle, scale);
-  Eigen::Vector3d corners0[4], corners1[4];
-  for (int k = 0; k < 4; ++k) {
-    corners0[k] = c0 + (k & 1) * scale * q0 + ((k & 2) >> 1) * scale * t0;
-    corners1[k] = c1 + (k & 1) * scale * q1 + ((k & 2) >> 1) * scale * t1;
-  }
-  best = std::numeric_limits<double>::infinity();
-  best_a = best_b = 0;
-  for (int a = 0; a < 4; ++a)
-    for (int b = 0; b < 4; ++b) {
-      const double d = (corners0[a] - corners1[b]).squaredNorm();
-      if (d < best) {
-        best = d;
-        best_a = a;
-        best_b = b;
-      }
-    }
-  c0 = corners0[best_a];
-  c1 = corners1[best_b];
+  const CornerMatch match = closestCornerPair(c0, scale * q0, scale * t0, c1, scale * q1, scale * t1);
+  best_a = match.a;
+  best_b = match.b;
+  best = match.squared_distance;
+  c0 = match.p0;
+  c1 = match.p1;
 }
 
 }  // namespace
@@ -193,21 +210,8 @@ void smoothPositionVertex(const FieldLevel& level, const std::vector<Eigen::Vect
     const Eigen::Vector3d& middle = cache.middle[e];
     const Eigen::Vector3d c0 = floorCorner(sum, q[i], cache.t[i], middle, scale, inverse_scale);
     const Eigen::Vector3d c1 = floorCorner(o[j], q[j], cache.t[j], middle, scale, inverse_scale);
-    const Eigen::Vector3d sq_j = scale * q[j], st_j = scale * cache.t[j];
-    Eigen::Vector3d corners0[4] = {c0, c0 + sq_i, c0 + st_i, c0 + sq_i + st_i};
-    Eigen::Vector3d corners1[4] = {c1, c1 + sq_j, c1 + st_j, c1 + sq_j + st_j};
-    double best = std::numeric_limits<double>::infinity();
-    int best_a = 0, best_b = 0;
-    for (int a = 0; a < 4; ++a)
-      for (int b = 0; b < 4; ++b) {
-        const double d = (corners0[a] - corners1[b]).squaredNorm();
-        if (d < best) {
-          best = d;
-          best_a = a;
-          best_b = b;
-        }
-      }
-    sum = (corners0[best_a] * weight_sum + corners1[best_b] * w) / (weight_sum + w);
+    const CornerMatch match = closestCornerPair(c0, sq_i, st_i, c1, scale * q[j], scale * cache.t[j]);
+    sum = (match.p0 * weight_sum + match.p1 * w) / (weight_sum + w);
     weight_sum += w;
     sum -= n_i * n_i.dot(sum - v_i);
   }

@@ -17,36 +17,11 @@
 using namespace pcl::patchdict;
 using test_support::runTool;
 
+using test_support::endsWithOneErrorLine;
+using test_support::jsonNumber;
+using test_support::q;
+
 namespace {
-
-double jsonNumber(const std::string& json, const std::string& key)
-{
-  const std::string needle = "\"" + key + "\": ";
-  const auto at = json.find(needle);
-  if (at == std::string::npos)
-    return std::nan("");
-  const char* start = json.c_str() + at + needle.size();
-  char* end = nullptr;
-  const double value = std::strtod(start, &end);
-  return end == start ? std::nan("") : value;
-}
-
-bool endsWithOneErrorLine(const std::string& err)
-{
-  if (err.empty() || err.back() != '\n')
-    return false;
-  std::size_t error_lines = 0, start = 0;
-  std::string last;
-  while (start < err.size()) {
-    const auto end = err.find('\n', start);
-    last = err.substr(start, end - start);
-    error_lines += last.find("error:") != std::string::npos;
-    start = end + 1;
-  }
-  return error_lines == 1 && last.find("error:") != std::string::npos;
-}
-
-std::string q(const std::string& path) { return "'" + path + "'"; }
 
 // A smooth relief, moved far from the unit cube (×50, shifted) so that a forgotten inverse
 // normalisation shows.
