@@ -4,6 +4,7 @@
 #include "cli.h"
 #include "patch_seeds.h"
 
+#include <pcl_patchdict/height_map_patch_extractor.h>
 #include <pcl_patchdict/metrics.h>
 #include <pcl_patchdict/normalization.h>
 #include <pcl_patchdict/patch_dictionary.h>
@@ -16,6 +17,28 @@
 namespace pcl {
 namespace patchdict {
 namespace cli {
+
+namespace {
+
+/** Encodes the observed bins with `sparsity` atoms and decodes every patch in place; returns the
+  * RMS error over the observed bins. Unobserved bins stay unobserved: decoded values there are
+  * extrapolation, not surface. */
+double codeThroughDictionary(const PatchDictionary& dictionary, int sparsity, PatchSet& patches)
+{
+  const PatchCodes codes = dictionary.encodeMasked(patches.heights, patches.observed, {sparsity, 0.0});
+  const Eigen::MatrixXd decoded = dictionary.decode(codes);
+  double squared = 0.0;
+  std::size_t count = 0;
+  for (Eigen::Index i = 0; i < decoded.size(); ++i)
+    if (patches.observed.data()[i]) {
+      squared += std::pow(decoded.data()[i] - patches.heights.data()[i], 2);
+      ++count;
+    }
+  patches.heights = decoded;
+  return count ? std::sqrt(squared / static_cast<double>(count)) : 0.0;
+}
+
+}  // namespace
 
 int runReconstruct(const std::vector<std::string>& raw)
 {
@@ -50,11 +73,57 @@ int runReconstruct(const std::vector<std::string>& raw)
   StageTimer timer(quiet);
   timer.start("load");
   TriangleMesh reference = loadMesh(input, quiet);
-  if (reference.faces.empty())
-    throw Error("'" + input + "' has no faces: reconstruct needs a mesh (point-cloud output is not in this version yet)");
   PatchDictionary::Ptr dictionary;
   if (args.has("dict"))
     dictionary = PatchDictionary::load(args.get("dict"), grid_size);
+  if (reference.faces.empty()) {
+    // A cloud has no vertices to move: its output is the cloud of the patches' observed bins.
+    if (placement != SeedPlacement::Quads)
+      throw Error("a point cloud needs --placement quads (its seeds lie on its Poisson surface)");
+    const UnitCubeNormalization normalization = UnitCubeNormalization::fromMesh(reference);
+    normalization.apply(reference);
+    timer.start("seeds");
+    const SeedsAndFrames seeds = computeSeedsAndFrames(reference, quad_length, overlap, seed, placement);
+    timer.start("extract");
+    HeightMapPatchExtractor extractor;
+    extractor.setInputCloud(reference);
+    extractor.setSeeds(seeds.seeds, seeds.frames);
+    extractor.setRadius(quad_length / std::sqrt(2.0));
+    extractor.setGridSize(grid_size);
+    PatchSet patches;
+    extractor.compute(patches);
+    const double patch_rmse = dictionary ? codeThroughDictionary(*dictionary, sparsity, patches) : 0.0;
+    timer.start("reconstruct");
+    TriangleMesh result;
+    result.vertices = patchSetToPoints(patches);
+    timer.start("eval");
+    const PointSetDistance to_input = pointsToPointsDistance(result.vertices, reference.vertices);
+    const PointSetDistance from_input = pointsToPointsDistance(reference.vertices, result.vertices);
+    timer.start("save");
+    normalization.invert(result);
+    writeMesh(output, result);
+    timer.stop();
+    if (args.has("json")) {
+      JsonObject json;
+      json.add("command", "reconstruct").add("input", input).add("output", output).add("input_kind", "cloud");
+      if (dictionary)
+        json.add("dictionary", args.get("dict")).add("sparsity", sparsity).add("patch_rmse", patch_rmse);
+      else
+        json.addNull("dictionary");
+      json.add("points_in", reference.vertices.size()).add("points_out", result.vertices.size());
+      json.add("patches", patches.numPatches()).add("grid_size", grid_size).add("quad_length", quad_length);
+      json.add("observed_fraction", patches.observedFraction()).add("units", "unit-cube");
+      json.add("output_to_input_mean", to_input.mean).add("output_to_input_rms", to_input.rms);
+      json.add("input_to_output_mean", from_input.mean).add("input_to_output_max", from_input.max);
+      json.add("seconds", timer.json());
+      std::cout << json.str() << '\n';
+    } else if (!quiet) {
+      std::printf("cloud round trip: %zu points from %zu patches, mean distance to the input %.4g, of the input to "
+                  "them %.4g (unit-cube units) -> %s\n",
+                  result.vertices.size(), patches.numPatches(), to_input.mean, from_input.mean, output.c_str());
+    }
+    return 0;
+  }
   // Vertices no face uses keep their place: they are left out of the scores.
   std::vector<int> referenced;
   {
@@ -76,18 +145,7 @@ int runReconstruct(const std::vector<std::string>& raw)
   double patch_rmse = 0.0;
   if (dictionary) {
     timer.start("code");
-    const PatchCodes codes = dictionary->encodeMasked(patches.heights, patches.observed, {sparsity, 0.0});
-    const Eigen::MatrixXd decoded = dictionary->decode(codes);
-    double squared = 0.0;
-    std::size_t count = 0;
-    for (Eigen::Index i = 0; i < decoded.size(); ++i)
-      if (patches.observed.data()[i]) {
-        squared += std::pow(decoded.data()[i] - patches.heights.data()[i], 2);
-        ++count;
-      }
-    patch_rmse = count ? std::sqrt(squared / static_cast<double>(count)) : 0.0;
-    // Unobserved bins stay unobserved: the decoded values there are extrapolation, not surface.
-    patches.heights = decoded;
+    patch_rmse = codeThroughDictionary(*dictionary, sparsity, patches);
   }
 
   timer.start("reconstruct");

@@ -6,6 +6,9 @@
 #include <pcl_patchdict/metrics.h>
 #include <pcl_patchdict/surface_sampling.h>
 
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_types.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -555,6 +558,47 @@ PointSetDistance pointsToSurfaceDistance(const std::vector<Vector3d>& points, co
     return result;
   const PointToMeshDistance to_mesh(mesh);
   const OneWay w = accumulate(to_mesh.distances(points), noiseFloor({&points, &mesh.vertices}));
+  const auto n = static_cast<double>(points.size());
+  result.mean = w.sum.value() / n;
+  result.rms = std::sqrt(w.sum_squares.value() / n);
+  result.max = w.max;
+  return result;
+}
+
+PointSetDistance pointsToPointsDistance(const std::vector<Vector3d>& points, const std::vector<Vector3d>& reference)
+{
+  PointSetDistance result;
+  result.count = points.size();
+  if (points.empty())
+    return result;
+  if (reference.empty())
+    throw Error("point distance: the reference cloud is empty");
+  for (const auto& p : reference)
+    if (!p.allFinite())
+      throw Error("point distance: the reference cloud has non-finite points");
+  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
+  for (const auto& p : reference)
+    cloud->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(cloud);
+  std::vector<double> distances(points.size());
+  const auto count = static_cast<std::ptrdiff_t>(points.size());
+#pragma omp parallel
+  {
+    std::vector<int> index(1);
+    std::vector<float> squared(1);
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t i = 0; i < count; ++i) {
+      const Vector3d& p = points[static_cast<std::size_t>(i)];
+      if (!p.allFinite())
+        throw Error("point distance: a point is not finite");
+      // FLANN finds the nearest in float; the distance itself is recomputed in double.
+      tree.nearestKSearch(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())),
+                          1, index, squared);
+      distances[static_cast<std::size_t>(i)] = (reference[static_cast<std::size_t>(index[0])] - p).norm();
+    }
+  }
+  const OneWay w = accumulate(distances, noiseFloor({&points, &reference}));
   const auto n = static_cast<double>(points.size());
   result.mean = w.sum.value() / n;
   result.rms = std::sqrt(w.sum_squares.value() / n);

@@ -232,5 +232,25 @@ void PatchMeshReconstruction::compute(TriangleMesh& out, Report* report) const
   }
 }
 
+std::vector<Eigen::Vector3d> patchSetToPoints(const PatchSet& patches)
+{
+  patches.check();
+  const int grid = patches.grid_size;
+  const double side = patches.side(), bin = side / grid;
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(static_cast<std::size_t>(patches.observed.count()));
+  for (std::size_t p = 0; p < patches.numPatches(); ++p)
+    for (int j = 0; j < grid; ++j)
+      for (int i = 0; i < grid; ++i) {
+        const Eigen::Index row = j * grid + i;
+        if (!patches.observed(row, static_cast<Eigen::Index>(p)))
+          continue;
+        const Eigen::Vector3d local((i + 0.5) * bin - 0.5 * side, (j + 0.5) * bin - 0.5 * side,
+                                    patches.heights(row, static_cast<Eigen::Index>(p)));
+        points.push_back(patches.seeds[p] + patches.rotations[p].transpose() * local);
+      }
+  return points;
+}
+
 }  // namespace patchdict
 }  // namespace pcl

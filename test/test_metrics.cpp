@@ -504,3 +504,23 @@ TEST(MetricsVertexRmse, ThrowsOnMismatchOrBadIndex)
   EXPECT_THROW(vertexRMSE(ref, ref, {-1}), Error);
   EXPECT_NO_THROW(vertexRMSE(ref, ref, {8}));
 }
+
+TEST(Metrics, PointsToPointsDistanceKnownAnswers)
+{
+  // A grid of points and the same grid lifted by 0.25 of its spacing: every nearest neighbour is
+  // the point below, at exactly 0.025.
+  std::vector<Eigen::Vector3d> grid, lifted;
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j) {
+      grid.emplace_back(0.1 * i, 0.1 * j, 0.0);
+      lifted.emplace_back(0.1 * i, 0.1 * j, 0.025);
+    }
+  const auto d = pcl::patchdict::pointsToPointsDistance(lifted, grid);
+  EXPECT_EQ(d.count, grid.size());
+  EXPECT_NEAR(d.mean, 0.025, 1e-12);
+  EXPECT_NEAR(d.rms, 0.025, 1e-12);
+  EXPECT_NEAR(d.max, 0.025, 1e-12);
+  EXPECT_EQ(pcl::patchdict::pointsToPointsDistance(grid, grid).max, 0.0);
+  EXPECT_THROW(pcl::patchdict::pointsToPointsDistance(grid, {}), pcl::patchdict::Error);
+  EXPECT_EQ(pcl::patchdict::pointsToPointsDistance({}, grid).count, 0u);
+}

@@ -61,6 +61,12 @@ struct PointSetDistance {
   * mesh has no faces; an empty point set gives zeros. */
 PointSetDistance pointsToSurfaceDistance(const std::vector<Eigen::Vector3d>& points, const TriangleMesh& mesh);
 
+/** One-way distance of `points` to their nearest point of `reference` (cloud against cloud, e.g.
+  * a reconstructed cloud against its input); rounding-level distances count as 0. Throws Error
+  * for an empty reference or non-finite points; an empty point set gives zeros. */
+PointSetDistance pointsToPointsDistance(const std::vector<Eigen::Vector3d>& points,
+                                        const std::vector<Eigen::Vector3d>& reference);
+
 /** Distances one way (samples of A to the surface of B) and their symmetric combination. */
 struct SurfaceDistance {
   double mean_ref_to_out = 0.0, rms_ref_to_out = 0.0, max_ref_to_out = 0.0;

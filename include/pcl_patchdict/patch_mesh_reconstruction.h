@@ -76,5 +76,10 @@ private:
   Rule rule_ = Rule::Bilinear;
 };
 
+/** \brief The point-cloud form of a patch set (for cloud inputs, which have no vertices to move):
+  * every observed bin of every patch as a 3D point — the bin centre at its height, in world
+  * coordinates (seed + Rᵀ·(x, y, h)); in patch order, bins row by row. */
+std::vector<Eigen::Vector3d> patchSetToPoints(const PatchSet& patches);
+
 }  // namespace patchdict
 }  // namespace pcl
