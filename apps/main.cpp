@@ -43,7 +43,7 @@ const std::vector<std::pair<std::string, Subcommand>>& subcommands()
       {"compress", {{}, "compress IN --dict DICT.pdd -o OUT.pdc", "compress as quad mesh + sparse codes"}},
       {"decompress", {{}, "decompress IN.pdc --dict DICT.pdd -o OUT", "decode a .pdc file"}},
       {"denoise", {{}, "denoise IN [--dict DICT.pdd] -o OUT", "denoise with a patch dictionary"}},
-      {"inpaint", {{}, "inpaint IN --missing IDX.txt [--dict DICT.pdd | --no-patches] -o OUT",
+      {"inpaint", {cli::runInpaint, "inpaint IN --missing IDX.txt [--dict DICT.pdd | --no-patches] -o OUT [--quad-length L] [--json]",
                    "recover missing vertices"}},
       {"fill-holes", {cli::runFillHoles, "fill-holes IN --no-patches -o OUT [--max-hole-edges E] [--max-hole-diameter D] [--absolute]",
                       "fill holes: Liepa's triangulate-refine-fair (--no-patches; the patch-based fill is not in this version yet)"}},
