@@ -7,11 +7,15 @@
 #include <pcl/search/kdtree.h>
 #include <pcl/surface/poisson.h>
 
+#include <unistd.h>
+
 #include <omp.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <iostream>
 #include <numeric>
 #include <queue>
 #include <tuple>
@@ -144,6 +148,33 @@ void CoarseMeshEstimation::smooth(const TriangleMesh& input, TriangleMesh& out, 
 }
 
 namespace {
+
+/** Points file descriptor 1 at stderr while alive (C and C++ streams flushed at both ends). */
+class StdoutToStderr {
+public:
+  StdoutToStderr()
+  {
+    std::cout.flush();
+    std::fflush(stdout);
+    saved_ = ::dup(1);
+    if (saved_ >= 0)
+      ::dup2(2, 1);
+  }
+  ~StdoutToStderr()
+  {
+    std::cout.flush();
+    std::fflush(stdout);
+    if (saved_ >= 0) {
+      ::dup2(saved_, 1);
+      ::close(saved_);
+    }
+  }
+  StdoutToStderr(const StdoutToStderr&) = delete;
+  StdoutToStderr& operator=(const StdoutToStderr&) = delete;
+
+private:
+  int saved_ = -1;
+};
 
 using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
@@ -382,7 +413,12 @@ void CoarseMeshEstimation::processCloud(TriangleMesh& out, Report* report) const
   poisson.setMinDepth(std::min(5, r.poisson_depth));
   poisson.setThreads(1);
   pcl::PolygonMesh polygons;
-  poisson.reconstruct(polygons);
+  {
+    // PCL's Poisson code prints diagnostics ("Vertex pair not in list", …) on stdout, which is the
+    // tool's --json channel: send them to stderr for the duration.
+    const StdoutToStderr redirect;
+    poisson.reconstruct(polygons);
+  }
   TriangleMesh mesh;
   fromPolygonMesh(polygons, mesh);
   r.poisson_vertices = mesh.vertices.size();
