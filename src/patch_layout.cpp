@@ -122,9 +122,9 @@ void computePatchLayout(const TriangleMesh& surface, const PatchLayoutParameters
   // Fewer faces than a cube has cannot describe a surface: the lattice is coarser than the shape.
   if (out.quads.faces.size() < 6) {
     std::ostringstream message;
-    message << "the quad mesh has no faces: the quad length " << parameters.quad_length
-            << " is too large for this shape (its bounding box is " << out.coarse.boundingBoxDiagonal()
-            << " across)";
+    message << "the quad mesh has " << out.quads.faces.size() << " faces (fewer than 6): the quad length "
+            << parameters.quad_length << " is too large for this shape (its coarse shape is "
+            << out.coarse.boundingBoxDiagonal() << " across)";
     throw Error(message.str());
   }
 
