@@ -9,7 +9,6 @@
 #include <pcl_patchdict/patch_layout.h>
 
 #include <array>
-#include <cctype>
 #include <iostream>
 #include <limits>
 #include <sstream>
@@ -72,11 +71,8 @@ int runQuads(const std::vector<std::string>& raw)
   for (const std::string& path : {output, args.get("frames"), args.get("coarse"), args.get("png")})
     refuseOverwritingInput(path, input);
   // Check the output's format before the work, not after.
-  std::string extension = output.substr(output.find_last_of('.') == std::string::npos ? output.size()
-                                                                                       : output.find_last_of('.') + 1);
-  for (char& c : extension)
-    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (extension != "obj" && extension != "ply")
+  const MeshFormat format = formatFromPath(output);
+  if (format != MeshFormat::OBJ && format != MeshFormat::PLY)
     throw Error("cannot write '" + output + "': a quad mesh is written as .obj or .ply");
 
   StageTimer timer(quiet);

@@ -2,6 +2,8 @@
 #include <pcl_patchdict/height_map_patch_extractor.h>
 #include <pcl_patchdict/reference_frame.h>
 
+#include "point_conversion.h"
+
 
 #include <pcl/kdtree/kdtree_flann.h>
 
@@ -37,11 +39,6 @@ Grid makeGrid(int grid_size, double radius)
   grid.bin = grid.side / grid_size;
   grid.half = 0.5 * grid.side;
   return grid;
-}
-
-pcl::PointXYZ toPoint(const Eigen::Vector3d& p)
-{
-  return pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
 }
 
 // The kd-trees hold float coordinates; widening the query by a few float ulps of the coordinates
@@ -170,7 +167,7 @@ void HeightMapPatchExtractor::computeMesh(PatchSet& out) const
     const Eigen::Vector3d& b = vertices[faces[f][1]];
     const Eigen::Vector3d& c = vertices[faces[f][2]];
     const Eigen::Vector3d centroid = (a + b + c) / 3.0;
-    (*centroids)[f] = toPoint(centroid);
+    (*centroids)[f] = detail::toPointXYZ(centroid);
     reach = std::max({reach, (a - centroid).norm(), (b - centroid).norm(), (c - centroid).norm()});
   }
   pcl::KdTreeFLANN<pcl::PointXYZ> tree(false);
@@ -190,7 +187,7 @@ void HeightMapPatchExtractor::computeMesh(PatchSet& out) const
     for (std::ptrdiff_t p = 0; p < static_cast<std::ptrdiff_t>(seeds_.size()); ++p) {
       const Eigen::Vector3d& seed = seeds_[static_cast<std::size_t>(p)];
       const Eigen::Matrix3d& rotation = rotations_[static_cast<std::size_t>(p)];
-      tree.radiusSearch(toPoint(seed), query_radius, neighbours, distances);
+      tree.radiusSearch(detail::toPointXYZ(seed), query_radius, neighbours, distances);
       // Index order, not distance order: the result must not depend on how FLANN breaks ties.
       std::sort(neighbours.begin(), neighbours.end());
       std::fill(best_abs.begin(), best_abs.end(), std::numeric_limits<double>::infinity());
@@ -259,12 +256,8 @@ void HeightMapPatchExtractor::computeCloud(PatchSet& out) const
 {
   const Grid grid = makeGrid(grid_size_, radius_);
   const auto& points = surface_.vertices;
-  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
-  cloud->resize(points.size());
-  for (std::size_t k = 0; k < points.size(); ++k)
-    (*cloud)[k] = toPoint(points[k]);
   pcl::KdTreeFLANN<pcl::PointXYZ> tree(false);
-  tree.setInputCloud(cloud);
+  tree.setInputCloud(detail::toCloudXYZ(points));
   const double query_radius = floatSafeRadius(radius_, coordinateScale(points, seeds_));
   const double radius_squared = radius_ * radius_;
   const int n = grid_size_;
@@ -279,7 +272,7 @@ void HeightMapPatchExtractor::computeCloud(PatchSet& out) const
     for (std::ptrdiff_t p = 0; p < static_cast<std::ptrdiff_t>(seeds_.size()); ++p) {
       const Eigen::Vector3d& seed = seeds_[static_cast<std::size_t>(p)];
       const Eigen::Matrix3d& rotation = rotations_[static_cast<std::size_t>(p)];
-      tree.radiusSearch(toPoint(seed), query_radius, neighbours, distances);
+      tree.radiusSearch(detail::toPointXYZ(seed), query_radius, neighbours, distances);
       // Summation in index order: bit-identical means whatever FLANN's order and the thread count.
       std::sort(neighbours.begin(), neighbours.end());
       std::fill(sums.begin(), sums.end(), 0.0);

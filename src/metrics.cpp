@@ -6,6 +6,8 @@
 #include <pcl_patchdict/metrics.h>
 #include <pcl_patchdict/surface_sampling.h>
 
+#include "point_conversion.h"
+
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_types.h>
 
@@ -576,11 +578,8 @@ PointSetDistance pointsToPointsDistance(const std::vector<Vector3d>& points, con
   for (const auto& p : reference)
     if (!p.allFinite())
       throw Error("point distance: the reference cloud has non-finite points");
-  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
-  for (const auto& p : reference)
-    cloud->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
   pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(cloud);
+  tree.setInputCloud(detail::toCloudXYZ(reference));
   std::vector<double> distances(points.size());
   const auto count = static_cast<std::ptrdiff_t>(points.size());
 #pragma omp parallel
@@ -593,8 +592,7 @@ PointSetDistance pointsToPointsDistance(const std::vector<Vector3d>& points, con
       if (!p.allFinite())
         throw Error("point distance: a point is not finite");
       // FLANN finds the nearest in float; the distance itself is recomputed in double.
-      tree.nearestKSearch(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())),
-                          1, index, squared);
+      tree.nearestKSearch(detail::toPointXYZ(p), 1, index, squared);
       distances[static_cast<std::size_t>(i)] = (reference[static_cast<std::size_t>(index[0])] - p).norm();
     }
   }

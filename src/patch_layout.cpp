@@ -3,7 +3,10 @@
 
 #include <pcl_patchdict/error.h>
 #include <pcl_patchdict/metrics.h>
+#include <pcl_patchdict/patch_mesh_reconstruction.h>
 #include <pcl_patchdict/vertex_normals.h>
+
+#include "point_conversion.h"
 
 #include <pcl/kdtree/kdtree_flann.h>
 
@@ -25,46 +28,32 @@ std::size_t addCoverageSeeds(const TriangleMesh& surface, double quad_length, Pa
 {
   if (layout.seeds.empty())
     return 0;
-  const double radius = quad_length / std::sqrt(2.0), half_side = 0.5 * quad_length;
-  pcl::PointCloud<pcl::PointXYZ>::Ptr vertices(new pcl::PointCloud<pcl::PointXYZ>);
-  for (const auto& v : surface.vertices)
-    vertices->push_back(pcl::PointXYZ(static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())));
+  const double radius = quad_length / std::sqrt(2.0);
   pcl::KdTreeFLANN<pcl::PointXYZ> vertex_tree;
-  vertex_tree.setInputCloud(vertices);
+  vertex_tree.setInputCloud(detail::toCloudXYZ(surface.vertices));
   std::vector<char> covered(surface.vertices.size(), 0);
-  std::vector<char> used(surface.vertices.size(), 0);
-  for (const Face& f : surface.faces)
-    for (const std::int32_t v : f)
-      used[v] = 1;
   std::vector<int> indices;
   std::vector<float> distances;
   const std::vector<Eigen::Vector3d> normals = computeVertexNormals(surface);
+  const float search_radius = detail::floatSearchRadius(radius);
   const auto cover = [&](const Eigen::Vector3d& seed, const Eigen::Matrix3d& rows) {
-    vertex_tree.radiusSearch(pcl::PointXYZ(static_cast<float>(seed.x()), static_cast<float>(seed.y()),
-                                           static_cast<float>(seed.z())),
-                             static_cast<float>(radius), indices, distances);
-    for (const int v : indices) {
-      const Eigen::Vector3d local = rows * (surface.vertices[v] - seed);
-      // Same test as PatchMeshReconstruction's mapping: inside the square, not facing away.
-      if (std::abs(local.x()) < half_side && std::abs(local.y()) < half_side && rows.row(2).dot(normals[v]) >= 0.0)
+    // Widened float search, then the reconstruction's own exact test.
+    vertex_tree.radiusSearch(detail::toPointXYZ(seed), search_radius, indices, distances);
+    for (const int v : indices)
+      if (patchContains(seed, rows, radius, surface.vertices[v], normals[v]))
         covered[v] = 1;
-    }
   };
   for (std::size_t s = 0; s < layout.seeds.size(); ++s)
     cover(layout.seeds[s], fromReferenceFrame(layout.frames[s]));
 
-  pcl::PointCloud<pcl::PointXYZ>::Ptr seed_cloud(new pcl::PointCloud<pcl::PointXYZ>);
-  for (const auto& s : layout.seeds)
-    seed_cloud->push_back(pcl::PointXYZ(static_cast<float>(s.x()), static_cast<float>(s.y()), static_cast<float>(s.z())));
   pcl::KdTreeFLANN<pcl::PointXYZ> seed_tree;
-  seed_tree.setInputCloud(seed_cloud);
+  seed_tree.setInputCloud(detail::toCloudXYZ(layout.seeds));
   std::size_t added = 0;
   for (std::size_t v = 0; v < surface.vertices.size(); ++v) {
-    if (covered[v] || !used[v] || normals[v].squaredNorm() == 0.0)
+    if (covered[v] || normals[v].squaredNorm() == 0.0)  // zero normal: no face uses v
       continue;
     const Eigen::Vector3d& p = surface.vertices[v];
-    seed_tree.nearestKSearch(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())),
-                             1, indices, distances);
+    seed_tree.nearestKSearch(detail::toPointXYZ(p), 1, indices, distances);
     const Eigen::Matrix3d nearest = fromReferenceFrame(layout.frames[indices[0]]);
     const Eigen::Vector3d z = normals[v];
     Eigen::Vector3d x = transportTangent(nearest.row(0).transpose(), nearest.row(2).transpose(), z);

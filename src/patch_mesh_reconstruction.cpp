@@ -3,6 +3,8 @@
 #include <pcl_patchdict/patch_mesh_reconstruction.h>
 #include <pcl_patchdict/vertex_normals.h>
 
+#include "point_conversion.h"
+
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_types.h>
 
@@ -27,6 +29,23 @@ void PatchMeshReconstruction::checkInput() const
       throw Error("patch reconstruction: target vertex " + std::to_string(v) + " is not finite");
 }
 
+bool patchContains(const Eigen::Vector3d& seed, const Eigen::Matrix3d& rotation, double radius,
+                   const Eigen::Vector3d& p, const Eigen::Vector3d& normal, Eigen::Vector3d* local_out)
+{
+  const Eigen::Vector3d offset = p - seed;
+  if (offset.norm() > radius)
+    return false;
+  const Eigen::Vector3d local = rotation * offset;
+  const double half_side = radius / std::sqrt(2.0);  // patch side √2·r
+  if (std::abs(local.x()) >= half_side || std::abs(local.y()) >= half_side)
+    return false;
+  if (rotation.row(2).dot(normal) < 0.0)
+    return false;
+  if (local_out)
+    *local_out = local;
+  return true;
+}
+
 std::vector<VertexPatchSample> PatchMeshReconstruction::computeMapping() const
 {
   checkInput();
@@ -34,14 +53,11 @@ std::vector<VertexPatchSample> PatchMeshReconstruction::computeMapping() const
   std::vector<VertexPatchSample> mapping;
   if (set.numPatches() == 0 || target_->vertices.empty())
     return mapping;
-  pcl::PointCloud<pcl::PointXYZ>::Ptr seeds(new pcl::PointCloud<pcl::PointXYZ>);
-  for (const auto& s : set.seeds)
-    seeds->push_back(pcl::PointXYZ(static_cast<float>(s.x()), static_cast<float>(s.y()), static_cast<float>(s.z())));
   pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(seeds);
-  const double radius = set.radius, half_side = 0.5 * set.side();
+  tree.setInputCloud(detail::toCloudXYZ(set.seeds));
+  const double radius = set.radius;
   // FLANN searches in float: widen a little, then decide exactly in double.
-  const float search_radius = static_cast<float>(radius * (1.0 + 1e-5) + 1e-7);
+  const float search_radius = detail::floatSearchRadius(radius);
   const auto count = static_cast<std::ptrdiff_t>(target_->vertices.size());
   // A vertex facing away from the patch's Z is on another sheet (the inside of a thin wall, the
   // far side of an ear): the patch sampled the sheet facing it, not this one.
@@ -56,18 +72,13 @@ std::vector<VertexPatchSample> PatchMeshReconstruction::computeMapping() const
 #pragma omp for schedule(dynamic, 256)
     for (std::ptrdiff_t v = 0; v < count; ++v) {
       const Eigen::Vector3d& p = target_->vertices[static_cast<std::size_t>(v)];
-      tree.radiusSearch(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())),
-                        search_radius, indices, distances);
+      tree.radiusSearch(detail::toPointXYZ(p), search_radius, indices, distances);
       std::sort(indices.begin(), indices.end());  // FLANN's order is not specified
       auto& samples = per_vertex[static_cast<std::size_t>(v)];
       for (const int patch : indices) {
-        const Eigen::Vector3d offset = p - set.seeds[static_cast<std::size_t>(patch)];
-        if (offset.norm() > radius)
-          continue;
-        const Eigen::Vector3d local = set.rotations[static_cast<std::size_t>(patch)] * offset;
-        if (std::abs(local.x()) >= half_side || std::abs(local.y()) >= half_side)
-          continue;
-        if (set.rotations[static_cast<std::size_t>(patch)].row(2).dot(normals[static_cast<std::size_t>(v)]) < 0.0)
+        Eigen::Vector3d local;
+        if (!patchContains(set.seeds[static_cast<std::size_t>(patch)], set.rotations[static_cast<std::size_t>(patch)],
+                           radius, p, normals[static_cast<std::size_t>(v)], &local))
           continue;
         samples.push_back({static_cast<std::int32_t>(v), patch, local.x(), local.y(), local.z()});
       }

@@ -83,23 +83,26 @@ inline CornerMatch closestCornerPair(const Eigen::Vector3d& c0, const Eigen::Vec
   return best;
 }
 
-/** The closest pair of corners of the two cells containing the middle point; a and b receive the
-  * corner offsets (0/1 along q and t) of the winners. */
-void closestCorners(const Eigen::Vector3d& v0, const Eigen::Vector3d& n0, const Eigen::Vector3d& q0,
-                    const Eigen::Vector3d& o0, const Eigen::Vector3d& v1, const Eigen::Vector3d& n1,
-                    const Eigen::Vector3d& q1, const Eigen::Vector3d& o1, double scale, Eigen::Vector3d& c0,
-                    Eigen::Vector3d& c1, int& best_a, int& best_b, double& best)
+/** The cells of both lattices that contain the two vertices' middle point (their integer corners
+  * relative to each origin) and the closest pair of corners of those cells. */
+struct CellMatch {
+  Eigen::Vector2i base0, base1;
+  CornerMatch corners;
+};
+
+CellMatch matchCells(const Eigen::Vector3d& v0, const Eigen::Vector3d& n0, const Eigen::Vector3d& q0,
+                     const Eigen::Vector3d& o0, const Eigen::Vector3d& v1, const Eigen::Vector3d& n1,
+                     const Eigen::Vector3d& q1, const Eigen::Vector3d& o1, double scale)
 {
   const Eigen::Vector3d t0 = n0.cross(q0), t1 = n1.cross(q1);
   const Eigen::Vector3d middle = middlePoint(v0, n0, v1, n1);
-  c0 = positionFloor4(o0, q0, n0, middle, scale);
-  c1 = positionFloor4(o1, q1, n1, middle, scale);
-  const CornerMatch match = closestCornerPair(c0, scale * q0, scale * t0, c1, scale * q1, scale * t1);
-  best_a = match.a;
-  best_b = match.b;
-  best = match.squared_distance;
-  c0 = match.p0;
-  c1 = match.p1;
+  CellMatch match;
+  match.base0 = positionFloorIndex4(o0, q0, n0, middle, scale);
+  match.base1 = positionFloorIndex4(o1, q1, n1, middle, scale);
+  const Eigen::Vector3d c0 = o0 + q0 * (match.base0.x() * scale) + t0 * (match.base0.y() * scale);
+  const Eigen::Vector3d c1 = o1 + q1 * (match.base1.x() * scale) + t1 * (match.base1.y() * scale);
+  match.corners = closestCornerPair(c0, scale * q0, scale * t0, c1, scale * q1, scale * t1);
+  return match;
 }
 
 }  // namespace
@@ -109,11 +112,8 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> compatPositionExtrinsic4(
     const Eigen::Vector3d& v1, const Eigen::Vector3d& n1, const Eigen::Vector3d& q1, const Eigen::Vector3d& o1,
     double scale)
 {
-  Eigen::Vector3d c0, c1;
-  int a = 0, b = 0;
-  double best = 0.0;
-  closestCorners(v0, n0, q0, o0, v1, n1, q1, o1, scale, c0, c1, a, b, best);
-  return {c0, c1};
+  const CellMatch match = matchCells(v0, n0, q0, o0, v1, n1, q1, o1, scale);
+  return {match.corners.p0, match.corners.p1};
 }
 
 std::pair<Eigen::Vector2i, Eigen::Vector2i> compatPositionExtrinsicIndex4(
@@ -121,16 +121,11 @@ std::pair<Eigen::Vector2i, Eigen::Vector2i> compatPositionExtrinsicIndex4(
     const Eigen::Vector3d& v1, const Eigen::Vector3d& n1, const Eigen::Vector3d& q1, const Eigen::Vector3d& o1,
     double scale, double* error)
 {
-  const Eigen::Vector3d middle = middlePoint(v0, n0, v1, n1);
-  const Eigen::Vector2i base0 = positionFloorIndex4(o0, q0, n0, middle, scale);
-  const Eigen::Vector2i base1 = positionFloorIndex4(o1, q1, n1, middle, scale);
-  Eigen::Vector3d c0, c1;
-  int a = 0, b = 0;
-  double best = 0.0;
-  closestCorners(v0, n0, q0, o0, v1, n1, q1, o1, scale, c0, c1, a, b, best);
+  const CellMatch match = matchCells(v0, n0, q0, o0, v1, n1, q1, o1, scale);
   if (error)
-    *error = best;
-  return {base0 + Eigen::Vector2i(a & 1, (a & 2) >> 1), base1 + Eigen::Vector2i(b & 1, (b & 2) >> 1)};
+    *error = match.corners.squared_distance;
+  const int a = match.corners.a, b = match.corners.b;
+  return {match.base0 + Eigen::Vector2i(a & 1, (a & 2) >> 1), match.base1 + Eigen::Vector2i(b & 1, (b & 2) >> 1)};
 }
 
 std::vector<std::vector<Eigen::Vector3d>> restrictOrientationField(const FieldHierarchy& hierarchy,

@@ -3,6 +3,7 @@
 
 #include <pcl_patchdict/atomic_file.h>
 #include <pcl_patchdict/error.h>
+#include <pcl_patchdict/mesh_io.h>
 
 #include <Eigen/Geometry>
 
@@ -105,13 +106,10 @@ QuadMeshStatistics computeQuadMeshStatistics(const QuadMesh& mesh)
 
 void writeQuadMesh(const std::string& path, const QuadMesh& mesh)
 {
-  const auto dot = path.find_last_of('.');
-  std::string extension = dot == std::string::npos ? "" : path.substr(dot + 1);
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const MeshFormat format = formatFromPath(path);
   std::ostringstream out;
   out.precision(17);
-  if (extension == "obj") {
+  if (format == MeshFormat::OBJ) {
     out << "# quad-dominant mesh written by pcl_patchdict\n";
     for (const auto& v : mesh.vertices)
       out << "v " << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
@@ -121,7 +119,7 @@ void writeQuadMesh(const std::string& path, const QuadMesh& mesh)
         out << ' ' << v + 1;
       out << '\n';
     }
-  } else if (extension == "ply") {
+  } else if (format == MeshFormat::PLY) {
     out << "ply\nformat ascii 1.0\ncomment quad-dominant mesh written by pcl_patchdict\nelement vertex "
         << mesh.vertices.size() << "\nproperty double x\nproperty double y\nproperty double z\nelement face "
         << mesh.faces.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
