@@ -69,9 +69,11 @@ TEST(CliInpaint, NoPatchesRecoversAPlaneAndKeepsKnownVertices)
   EXPECT_EQ(test_support::readFile(dir.file("holed.ply")), before);
   bad = runTool("inpaint " + q(dir.file("holed.ply")) + " --missing " + q(dir.file("missing.txt")) +
                 " --no-patches --dict x.pdd -o " + q(dir.file("o.ply")));
-  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_TRUE(test_support::isOneLine(bad.err)) << bad.err;
   bad = runTool("inpaint " + q(dir.file("nothing.ply")) + " --missing " + q(dir.file("missing.txt")) +
                 " --no-patches -o " + q(dir.file("o.ply")));
   EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_TRUE(endsWithOneErrorLine(bad.err)) << bad.err;
   EXPECT_TRUE(test_support::readFile(dir.file("o.ply")).empty());
 }

@@ -131,7 +131,9 @@ TEST(CliPatches, ReconstructThroughADictionary)
     EXPECT_EQ(jsonNumber(result.out, "atoms"), 20.0);
     EXPECT_GT(jsonNumber(result.out, "patch_rmse"), 0.0);
     EXPECT_LT(coded_psnr, identity_psnr);  // coding loses something ...
-    EXPECT_GT(coded_psnr, previous);       // ... less with more atoms per patch
+    if (sparsity > 1) {
+      EXPECT_GT(coded_psnr, previous);  // ... less with more atoms per patch
+    }
     EXPECT_GT(coded_psnr, 50.0);
     previous = coded_psnr;
   }
@@ -152,13 +154,16 @@ TEST(CliPatches, PatchesOfACloudGoThroughItsPoissonSurface)
                               " --grid 8 --quad-length 0.1 --json");
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_NE(result.out.find("\"input_kind\": \"cloud\""), std::string::npos);
-  EXPECT_GT(jsonNumber(result.out, "poisson_depth"), 0.0);
+  // The automatic depth is clamped to [5, 10] (CoarseMeshEstimation).
+  EXPECT_GE(jsonNumber(result.out, "poisson_depth"), 5.0);
+  EXPECT_LE(jsonNumber(result.out, "poisson_depth"), 10.0);
   const PatchSet patches = PatchSet::load(dir.file("c.pds"));
   EXPECT_GT(patches.numPatches(), 100u);
   // Binned points, not exact heights: most bins see no point of this sparse cloud (2562 points;
   // measured 12.7 % observed).
+  std::printf("cloud patches: %.1f %% of bins observed\n", 100.0 * patches.observedFraction());
   EXPECT_GT(patches.observedFraction(), 0.06);
-  EXPECT_LT(patches.observedFraction(), 1.0);
+  EXPECT_LT(patches.observedFraction(), 0.5);
 }
 
 TEST(CliPatches, ErrorsAndUsage)

@@ -19,7 +19,7 @@ namespace {
 // perfectly regular surface: the bound keeps it from being lost unnoticed.
 constexpr double kPatchMargin = 0.99;
 
-/** Every `stride`-th pick of a seeded shuffle of the vertices accepted by `allowed`, `fraction` of them. */
+/** `fraction` × n vertices (at most all the allowed ones) from a seeded shuffle of those `allowed`. */
 template <typename Allowed>
 std::vector<int> pickVertices(std::size_t n, double fraction, std::uint64_t seed, Allowed allowed)
 {
@@ -29,7 +29,7 @@ std::vector<int> pickVertices(std::size_t n, double fraction, std::uint64_t seed
       candidates.push_back(static_cast<int>(v));
   std::mt19937_64 rng(seed);
   std::shuffle(candidates.begin(), candidates.end(), rng);
-  candidates.resize(static_cast<std::size_t>(fraction * static_cast<double>(n)));
+  candidates.resize(std::min(candidates.size(), static_cast<std::size_t>(fraction * static_cast<double>(n))));
   std::sort(candidates.begin(), candidates.end());
   return candidates;
 }
