@@ -104,6 +104,7 @@ int runPatches(const std::vector<std::string>& args);
 int runReconstruct(const std::vector<std::string>& args);
 int runFillHoles(const std::vector<std::string>& args);
 int runInpaint(const std::vector<std::string>& args);
+int runDenoise(const std::vector<std::string>& args);
 int runQuads(const std::vector<std::string>& args);
 
 }  // namespace cli

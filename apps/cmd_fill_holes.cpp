@@ -1,9 +1,12 @@
-// `pcl_patchdict fill-holes IN --no-patches -o OUT`: Liepa's triangulate–refine–fair alone.
+// `pcl_patchdict fill-holes IN [--dict DICT.pdd | --no-patches] -o OUT`: Liepa's
+// triangulate–refine–fair, then the new vertices corrected by patches (SparsePatchInpainter, Holes).
 // The output keeps the input vertices first, bit-identical and in order, then the new ones.
 #include "cli.h"
+#include "repair_options.h"
 
 #include <pcl_patchdict/hole_filling.h>
 #include <pcl_patchdict/normalization.h>
+#include <pcl_patchdict/sparse_patch_inpainter.h>
 
 #include <cmath>
 #include <cstdio>
@@ -18,23 +21,21 @@ namespace cli {
 namespace {
 
 const char* kUsage =
-    "pcl_patchdict fill-holes IN --no-patches -o OUT [--max-hole-edges E] [--max-hole-diameter D] [--absolute] "
-    "[--json]";
+    "pcl_patchdict fill-holes IN [--dict DICT.pdd | --no-patches] -o OUT [--max-hole-edges E] "
+    "[--max-hole-diameter D] [--absolute] [--hole-factor F] [--quad-length L] [--sparsity S] [--mu M] [--json]";
 
 }  // namespace
 
 int runFillHoles(const std::vector<std::string>& raw)
 {
   auto value_options = commonValueOptions();
-  value_options.insert({"output", "max-hole-edges", "max-hole-diameter", "dict"});
+  value_options.insert({"output", "max-hole-edges", "max-hole-diameter", "hole-factor"});
+  value_options.insert(repairValueOptions().begin(), repairValueOptions().end());
   auto flag_options = commonFlagOptions();
   flag_options.insert({"no-patches", "absolute"});
   const Arguments args(raw, value_options, flag_options);
   args.expectPositionals(1, 1, kUsage);
-  if (!args.has("no-patches"))
-    throw UsageError("patch-based hole filling is not available in this version yet; "
-                     "use --no-patches for Liepa's triangulate-refine-fair fill alone");
-  if (args.has("dict"))
+  if (args.has("dict") && args.has("no-patches"))
     throw UsageError("--dict and --no-patches exclude each other");
   if (!args.has("output"))
     throw UsageError("usage: " + std::string(kUsage));
@@ -48,11 +49,16 @@ int runFillHoles(const std::vector<std::string>& raw)
   if (formatFromPath(out_path) == MeshFormat::Unknown || formatFromPath(out_path) == MeshFormat::PCD)
     throw Error("output '" + out_path + "' must be a mesh file (.ply, .obj, .off, .stl)");
 
+  SparsePatchInpainter::Parameters parameters;
+  readRepairOptions(args, parameters);
+  parameters.hole_quad_factor = args.getDouble("hole-factor", parameters.hole_quad_factor, 0.0, 100.0);
+
   StageTimer timer(quiet);
   timer.start("load");
   const TriangleMesh mesh = loadMesh(in_path, quiet);
   if (mesh.faces.empty())
     throw Error("'" + in_path + "' has no faces: fill-holes needs a triangle mesh");
+  const PatchDictionary::ConstPtr dictionary = loadRepairDictionary(args);
 
   timer.start("fill");
   HoleFilling filler;
@@ -62,9 +68,19 @@ int runFillHoles(const std::vector<std::string>& raw)
   if (std::isfinite(max_diameter) && !args.has("absolute"))
     diameter_limit = UnitCubeNormalization::fromMesh(mesh).invertLength(max_diameter);
   filler.setMaxHoleDiameter(diameter_limit > 0.0 ? diameter_limit : std::numeric_limits<double>::min());
+  SparsePatchInpainter inpainter;
+  inpainter.setMode(SparsePatchInpainter::Mode::Holes);
+  inpainter.setInputMesh(mesh);
+  inpainter.setHoleFilling(filler);
+  inpainter.setDictionary(dictionary);
+  inpainter.setUsePatches(!args.has("no-patches"));
+  inpainter.setParameters(parameters);
   TriangleMesh filled;
-  HoleFilling::Report report;
-  filler.process(filled, &report);
+  SparsePatchInpainter::Report repair;
+  inpainter.process(filled, &repair);
+  const HoleFilling::Report& report = repair.holes;
+  if (repair.used_patches)
+    note(quiet, patchStageSummary(repair.patches));
 
   timer.start("write");
   writeMesh(out_path, filled);
@@ -98,6 +114,12 @@ int runFillHoles(const std::vector<std::string>& raw)
       holes.add(std::to_string(h), entry);
     }
     json.add("holes", holes);
+    if (repair.used_patches) {
+      json.add("patch_stage", patchStageJson(repair.patches));
+      json.add("sparsity", parameters.sparsity).add("mu", parameters.constraint_weight);
+      json.add("mean_correction", repair.mean_correction);
+    }
+    json.add("repair_stages", repairStagesJson(repair));
     JsonObject seconds = timer.json();
     seconds.add("triangulation", report.seconds_triangulation)
         .add("refinement", report.seconds_refinement)

@@ -42,11 +42,11 @@ const std::vector<std::pair<std::string, Subcommand>>& subcommands()
                        "surface -> patches -> surface round trip (identity, or through a dictionary), scored"}},
       {"compress", {{}, "compress IN --dict DICT.pdd -o OUT.pdc", "compress as quad mesh + sparse codes"}},
       {"decompress", {{}, "decompress IN.pdc --dict DICT.pdd -o OUT", "decode a .pdc file"}},
-      {"denoise", {{}, "denoise IN [--dict DICT.pdd] -o OUT", "denoise with a patch dictionary"}},
+      {"denoise", {cli::runDenoise, "denoise IN [--dict DICT.pdd | --no-patches] -o OUT [--noise S] [--json]", "denoise with a patch dictionary"}},
       {"inpaint", {cli::runInpaint, "inpaint IN --missing IDX.txt [--dict DICT.pdd | --no-patches] -o OUT [--quad-length L] [--json]",
                    "recover missing vertices"}},
-      {"fill-holes", {cli::runFillHoles, "fill-holes IN --no-patches -o OUT [--max-hole-edges E] [--max-hole-diameter D] [--absolute]",
-                      "fill holes: Liepa's triangulate-refine-fair (--no-patches; the patch-based fill is not in this version yet)"}},
+      {"fill-holes", {cli::runFillHoles, "fill-holes IN [--dict DICT.pdd | --no-patches] -o OUT [--max-hole-edges E] [--max-hole-diameter D] [--absolute]",
+                      "fill holes: Liepa's triangulate-refine-fair, new vertices corrected by patches"}},
   };
   return table;
 }

@@ -118,7 +118,7 @@ TEST(SparsePatchInpainter, PatchesBeatTheBiLaplacianOnASinusoidalRelief)
   const TriangleMesh truth = makeSinusoidalRelief(64, 64, amplitude, period);
   SparsePatchInpainter::Parameters parameters;
   parameters.constraint_weight = 1.0;
-  const PatchSet training = SparsePatchInpainter::trainingPatches(truth, parameters, 16);
+  const PatchSet training = PatchCorrection::trainingPatches(truth, parameters, 16);
   ASSERT_GT(training.numPatches(), 200u);
   auto dictionary = std::make_shared<PatchDictionary>();
   dictionary->setNumAtoms(64);
@@ -141,7 +141,7 @@ TEST(SparsePatchInpainter, PatchesBeatTheBiLaplacianOnASinusoidalRelief)
   SparsePatchInpainter::Report report;
   inpainter.process(patched, &report);
   EXPECT_TRUE(report.used_patches);
-  EXPECT_GT(report.constrained_vertices, missing.size() * 9 / 10);
+  EXPECT_GT(report.patches.constrained_vertices, missing.size() * 9 / 10);
   const double base = rmse(bilaplacian, truth, missing), ours = rmse(patched, truth, missing);
   RecordProperty("bilaplacian_rmse", std::to_string(base));
   RecordProperty("patch_rmse", std::to_string(ours));

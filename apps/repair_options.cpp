@@ -1,0 +1,89 @@
+// Shared options and reporting of the repair subcommands (see repair_options.h).
+#include "repair_options.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace pcl {
+namespace patchdict {
+namespace cli {
+
+const std::set<std::string>& repairValueOptions()
+{
+  static const std::set<std::string> options = {
+      "dict",         "quad-length",     "quad-factor", "sparsity",       "mu",        "overlap",
+      "atoms",        "grid",            "patch-scale", "centre-sigma",   "observed-power",
+      "fit-scale",    "agreement-scale", "min-observed"};
+  return options;
+}
+
+void readRepairOptions(const Arguments& args, SparsePatchInpainter::Parameters& parameters)
+{
+  parameters.quad_length = args.getDouble("quad-length", 0.0, 0.0, 0.5);
+  parameters.quad_length_factor = args.getDouble("quad-factor", parameters.quad_length_factor, 0.1, 1000.0);
+  parameters.sparsity = static_cast<int>(args.getInt("sparsity", parameters.sparsity, 1, 1024));
+  parameters.constraint_weight = args.getDouble("mu", parameters.constraint_weight, 0.0, 1e12);
+  parameters.overlap = static_cast<int>(args.getInt("overlap", parameters.overlap, 0, 8));
+  parameters.self_similar_atoms = static_cast<int>(args.getInt("atoms", parameters.self_similar_atoms, 1, 65536));
+  parameters.grid_size = static_cast<int>(args.getInt("grid", 0, 0, 256));
+  parameters.patch_scale = args.getDouble("patch-scale", parameters.patch_scale, 0.05, 20.0);
+  parameters.centre_sigma = args.getDouble("centre-sigma", parameters.centre_sigma, 0.0, 100.0);
+  parameters.observed_power = args.getDouble("observed-power", parameters.observed_power, 0.0, 100.0);
+  parameters.fit_scale = args.getDouble("fit-scale", parameters.fit_scale, 0.0, 1e6);
+  parameters.agreement_scale = args.getDouble("agreement-scale", parameters.agreement_scale, 0.0, 1e6);
+  parameters.min_observed_fraction = args.getDouble("min-observed", parameters.min_observed_fraction, 0.0, 1.0);
+  parameters.seed = static_cast<std::uint64_t>(args.getInt("seed", 0, 0, (1LL << 62)));
+}
+
+PatchDictionary::ConstPtr loadRepairDictionary(const Arguments& args)
+{
+  if (args.has("dict") && args.has("no-patches"))
+    throw UsageError("--dict and --no-patches exclude each other");
+  if (!args.has("dict"))
+    return nullptr;
+  return PatchDictionary::load(args.get("dict"), static_cast<int>(args.getInt("grid", 0, 0, 256)));
+}
+
+std::string dictionaryKind(const Arguments& args)
+{
+  return args.has("no-patches") ? "none" : (args.has("dict") ? "given" : "self-similar");
+}
+
+std::string patchStageSummary(const PatchCorrectionReport& report)
+{
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "  L = %.4g (%.2f x mean edge), %zu of %zu patches used, %.1f atoms per code, %zu constraints on %zu "
+                "vertices",
+                report.quad_length, report.quad_length / std::max(report.mean_edge_length, 1e-300),
+                report.patches_used, report.patches, report.mean_atoms, report.constraints,
+                report.constrained_vertices);
+  return text;
+}
+
+JsonObject patchStageJson(const PatchCorrectionReport& report)
+{
+  JsonObject json;
+  json.add("mean_edge_length", report.mean_edge_length).add("quad_length", report.quad_length);
+  json.add("quad_length_over_mean_edge", report.quad_length / std::max(report.mean_edge_length, 1e-300));
+  json.add("patch_side", report.patch_side).add("grid_size", report.grid_size).add("atoms", report.atoms);
+  json.add("self_similar", report.self_similar);
+  json.add("patch_count", report.patches).add("patches_used", report.patches_used);
+  json.add("observed_fraction", report.observed_fraction).add("mean_atoms_per_code", report.mean_atoms);
+  json.add("constraints", report.constraints).add("constrained_vertices", report.constrained_vertices);
+  return json;
+}
+
+JsonObject repairStagesJson(const SparsePatchInpainter::Report& report)
+{
+  JsonObject json;
+  json.add("base", report.seconds_base).add("patch_stage", report.seconds_patch_stage);
+  json.add("layout", report.patches.seconds_layout).add("patches", report.patches.seconds_patches);
+  json.add("dictionary", report.patches.seconds_dictionary).add("coding", report.patches.seconds_coding);
+  json.add("constraints", report.patches.seconds_constraints).add("solve", report.seconds_solve);
+  return json;
+}
+
+}  // namespace cli
+}  // namespace patchdict
+}  // namespace pcl

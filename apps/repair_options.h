@@ -1,0 +1,33 @@
+// What the repair subcommands (inpaint, fill-holes, denoise) share: the patch-stage options, the
+// dictionary, and how the patch stage is summarised on stderr and in --json.
+#pragma once
+
+#include "cli.h"
+
+#include <pcl_patchdict/sparse_patch_inpainter.h>
+
+#include <set>
+#include <string>
+
+namespace pcl {
+namespace patchdict {
+namespace cli {
+
+/** Value options of the patch stage (--quad-length, --sparsity, --mu, ...). */
+const std::set<std::string>& repairValueOptions();
+/** Reads those options into `parameters` (whose values are the defaults). */
+void readRepairOptions(const Arguments& args, SparsePatchInpainter::Parameters& parameters);
+/** --dict D (checked against --grid), or null; UsageError with --no-patches. */
+PatchDictionary::ConstPtr loadRepairDictionary(const Arguments& args);
+/** "given", "self-similar" or "none". */
+std::string dictionaryKind(const Arguments& args);
+
+/** "L = … (… × mean edge), … of … patches used, … constraints on … vertices". */
+std::string patchStageSummary(const PatchCorrectionReport& report);
+JsonObject patchStageJson(const PatchCorrectionReport& report);
+/** Seconds of the base, the patch stage (and its parts), and the solve. */
+JsonObject repairStagesJson(const SparsePatchInpainter::Report& report);
+
+}  // namespace cli
+}  // namespace patchdict
+}  // namespace pcl

@@ -1,0 +1,407 @@
+// PatchCorrection (see patch_correction.h). Patches and dictionaries: Sarkar, Varanasi & Stricker,
+// "Learning quadrangulated patches for 3D shape parameterization and completion", 3DV 2017,
+// sections 3–5; masked OMP and K-SVD as in sparse_coding.h; the confidence-weighted point-to-plane
+// combination instead of the paper's overwrite is ours (FINDINGS.md: overwriting loses).
+#include <pcl_patchdict/patch_correction.h>
+
+#include <pcl_patchdict/error.h>
+#include <pcl_patchdict/height_map_patch_extractor.h>
+#include <pcl_patchdict/normalization.h>
+#include <pcl_patchdict/patch_layout.h>
+#include <pcl_patchdict/patch_mesh_reconstruction.h>
+#include <pcl_patchdict/vertex_normals.h>
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <unordered_map>
+
+namespace pcl {
+namespace patchdict {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+/** Seeds bucketed in a uniform grid of cell `cell` for ball queries. */
+class SeedGrid {
+public:
+  SeedGrid(const std::vector<Eigen::Vector3d>& points, double cell) : points_(points), cell_(cell)
+  {
+    for (std::size_t i = 0; i < points.size(); ++i)
+      cells_[key(cellOf(points[i]))].push_back(static_cast<std::int32_t>(i));
+  }
+  /** Indices of the points within `radius` (≤ cell) of q, increasing. */
+  void query(const Eigen::Vector3d& q, double radius, std::vector<std::int32_t>& out) const
+  {
+    out.clear();
+    const Eigen::Vector3i c = cellOf(q);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = cells_.find(key(c + Eigen::Vector3i(dx, dy, dz)));
+          if (it == cells_.end())
+            continue;
+          for (std::int32_t i : it->second)
+            if ((points_[static_cast<std::size_t>(i)] - q).squaredNorm() <= radius * radius)
+              out.push_back(i);
+        }
+    std::sort(out.begin(), out.end());
+  }
+
+private:
+  Eigen::Vector3i cellOf(const Eigen::Vector3d& p) const
+  {
+    return Eigen::Vector3i(static_cast<int>(std::floor(p.x() / cell_)), static_cast<int>(std::floor(p.y() / cell_)),
+                           static_cast<int>(std::floor(p.z() / cell_)));
+  }
+  static std::int64_t key(const Eigen::Vector3i& c)
+  {
+    return ((static_cast<std::int64_t>(c.x()) & 0x1FFFFF) << 42) | ((static_cast<std::int64_t>(c.y()) & 0x1FFFFF) << 21) |
+           (static_cast<std::int64_t>(c.z()) & 0x1FFFFF);
+  }
+  const std::vector<Eigen::Vector3d>& points_;
+  double cell_;
+  std::unordered_map<std::int64_t, std::vector<std::int32_t>> cells_;
+};
+
+/** Bilinear height of an N×N patch column at frame coordinates (u, v); bin centres as in
+  * HeightMapPatchExtractor, clamped at the border bins. */
+double bilinearHeight(const Eigen::Ref<const Eigen::VectorXd>& heights, int n, double side, double u, double v)
+{
+  const double gx = std::clamp((u + 0.5 * side) / side * n - 0.5, 0.0, static_cast<double>(n - 1));
+  const double gy = std::clamp((v + 0.5 * side) / side * n - 0.5, 0.0, static_cast<double>(n - 1));
+  const int i0 = std::min(static_cast<int>(gx), n - 2 < 0 ? 0 : n - 2);
+  const int j0 = std::min(static_cast<int>(gy), n - 2 < 0 ? 0 : n - 2);
+  const double fx = gx - i0, fy = gy - j0;
+  const auto h = [&](int i, int j) { return heights(static_cast<Eigen::Index>(j) * n + i); };
+  return (1 - fy) * ((1 - fx) * h(i0, j0) + fx * h(i0 + 1, j0)) + fy * ((1 - fx) * h(i0, j0 + 1) + fx * h(i0 + 1, j0 + 1));
+}
+
+PatchLayoutParameters layoutParameters(const PatchCorrectionParameters& p, double quad_length)
+{
+  PatchLayoutParameters layout;
+  layout.quad_length = quad_length;
+  layout.overlap = p.overlap;
+  layout.seed = p.seed;
+  layout.num_threads = p.num_threads;
+  return layout;
+}
+
+int threadCount(int requested) { return requested > 0 ? requested : omp_get_max_threads(); }
+
+}  // namespace
+
+void PatchCorrection::checkParameters(const PatchCorrectionParameters& p)
+{
+  if (!(p.quad_length >= 0.0) || !std::isfinite(p.quad_length))
+    throw Error("the quad length must be ≥ 0 (0: automatic)");
+  if (!(p.quad_length_factor > 0.0) || !std::isfinite(p.quad_length_factor))
+    throw Error("the quad length factor must be > 0");
+  if (!(p.patch_scale > 0.0) || !std::isfinite(p.patch_scale))
+    throw Error("the patch scale must be > 0");
+  if (p.overlap < 0 || p.sparsity < 1)
+    throw Error("overlap must be ≥ 0 and sparsity ≥ 1");
+  if (!(p.error_per_bin >= 0.0) || !std::isfinite(p.error_per_bin))
+    throw Error("the error target must be ≥ 0");
+  for (double term : {p.centre_sigma, p.observed_power, p.fit_scale, p.agreement_scale})
+    if (!(term >= 0.0) || !std::isfinite(term))
+      throw Error("confidence parameters must be ≥ 0");
+  if (!(p.min_observed_fraction >= 0.0 && p.min_observed_fraction <= 1.0))
+    throw Error("the minimum observed fraction must be in [0, 1]");
+  if ((p.grid_size != 0 && (p.grid_size < 2 || p.grid_size > 256)) || p.self_similar_atoms < 1 ||
+      p.self_similar_iterations < 1)
+    throw Error("bad self-similar dictionary parameters");
+}
+
+double PatchCorrection::quadLength(const TriangleMesh& normalised_mesh, const PatchCorrectionParameters& parameters)
+{
+  return parameters.quad_length > 0.0 ? parameters.quad_length
+                                      : parameters.quad_length_factor * normalised_mesh.meanEdgeLength();
+}
+
+PatchSet PatchCorrection::trainingPatches(const TriangleMesh& clean_mesh, const PatchCorrectionParameters& parameters,
+                                          int grid_size)
+{
+  checkParameters(parameters);
+  TriangleMesh mesh = clean_mesh;
+  UnitCubeNormalization::fromMesh(mesh).apply(mesh);
+  const double quad_length = quadLength(mesh, parameters);
+  PatchLayout layout;
+  computePatchLayout(mesh, layoutParameters(parameters, quad_length), layout);
+  HeightMapPatchExtractor extractor;
+  extractor.setSeeds(layout.seeds, layout.frames);
+  extractor.setInputMesh(mesh);
+  extractor.setRadius(parameters.patch_scale * quad_length / std::sqrt(2.0));
+  extractor.setGridSize(grid_size);
+  extractor.setNumberOfThreads(parameters.num_threads);
+  PatchSet patches;
+  extractor.compute(patches);
+  return patches;
+}
+
+void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& constraints,
+                              PatchCorrectionReport* report) const
+{
+  PatchCorrectionReport local_report;
+  PatchCorrectionReport& r = report ? *report : local_report;
+  r = PatchCorrectionReport();
+  const PatchCorrectionParameters& p = parameters_;
+  checkParameters(p);
+  if (!estimate_ || estimate_->empty() || estimate_->faces.empty())
+    throw Error("patch correction: no estimate mesh (with faces) given");
+  const TriangleMesh& estimate = *estimate_;
+  if (!observed_faces_.empty() && observed_faces_.size() != estimate.numFaces())
+    throw Error("patch correction: " + std::to_string(observed_faces_.size()) + " observed-face flags for " +
+                std::to_string(estimate.numFaces()) + " faces");
+  for (std::int32_t v : targets_)
+    if (v < 0 || static_cast<std::size_t>(v) >= estimate.numVertices())
+      throw Error("patch correction: target vertex " + std::to_string(v) + " is out of range");
+  if (dictionary_) {
+    if (dictionary_->empty())
+      throw Error("the dictionary has no atoms");
+    if (dictionary_->gridSize() < 2)
+      throw Error("the dictionary's atoms are not N×N patches");
+    if (p.grid_size != 0 && dictionary_->gridSize() != p.grid_size)
+      throw Error("the dictionary has " + std::to_string(dictionary_->gridSize()) + "×" +
+                  std::to_string(dictionary_->gridSize()) + " atoms, the patches are " + std::to_string(p.grid_size) +
+                  "×" + std::to_string(p.grid_size));
+  }
+  constraints.assign(targets_.size(), {});
+  r.mean_edge_length = estimate.meanEdgeLength();
+  if (targets_.empty())
+    return;
+
+  // 1. Layout on the estimate.
+  auto t = Clock::now();
+  const double quad_length = quadLength(estimate, p);
+  r.quad_length = quad_length;
+  PatchLayout layout;
+  computePatchLayout(estimate, layoutParameters(p, quad_length), layout);
+  r.patches = layout.seeds.size();
+  r.seconds_layout = secondsSince(t);
+
+  // 2. Height maps of the observed surface.
+  t = Clock::now();
+  TriangleMesh observed;
+  observed.vertices = estimate.vertices;
+  if (observed_surface_) {
+    observed = *observed_surface_;
+  } else if (observed_faces_.empty()) {
+    observed.faces = estimate.faces;
+  } else {
+    for (std::size_t f = 0; f < estimate.numFaces(); ++f)
+      if (observed_faces_[f])
+        observed.faces.push_back(estimate.faces[f]);
+  }
+  if (observed.faces.empty())
+    throw Error("no face is observed: there is no surface to fit patches to");
+  const int grid = dictionary_ ? dictionary_->gridSize() : (p.grid_size > 0 ? p.grid_size : 16);
+  const double side = p.patch_scale * quad_length;
+  const double radius = side / std::sqrt(2.0);
+  r.patch_side = side;
+  r.grid_size = grid;
+  HeightMapPatchExtractor extractor;
+  extractor.setSeeds(layout.seeds, layout.frames);
+  extractor.setInputMesh(observed);
+  extractor.setRadius(radius);
+  extractor.setGridSize(grid);
+  extractor.setNumberOfThreads(p.num_threads);
+  PatchSet patches;
+  extractor.compute(patches);
+  r.observed_fraction = patches.observedFraction();
+  const Eigen::Index bins = static_cast<Eigen::Index>(grid) * grid;
+  std::vector<std::int32_t> usable;
+  std::vector<double> fraction(patches.numPatches(), 0.0);
+  for (std::size_t k = 0; k < patches.numPatches(); ++k) {
+    fraction[k] = static_cast<double>(patches.observed.col(static_cast<Eigen::Index>(k)).count()) /
+                  static_cast<double>(bins);
+    if (fraction[k] >= p.min_observed_fraction && fraction[k] > 0.0)
+      usable.push_back(static_cast<std::int32_t>(k));
+  }
+  r.patches_used = usable.size();
+  Eigen::MatrixXd usable_heights(bins, static_cast<Eigen::Index>(usable.size()));
+  ObservationMask usable_mask(bins, static_cast<Eigen::Index>(usable.size()));
+  for (std::size_t u = 0; u < usable.size(); ++u) {
+    usable_heights.col(static_cast<Eigen::Index>(u)) = patches.heights.col(usable[u]);
+    usable_mask.col(static_cast<Eigen::Index>(u)) = patches.observed.col(usable[u]);
+  }
+  r.seconds_patches = secondsSince(t);
+  if (usable.empty())
+    return;  // nothing observed near enough: no constraint
+
+  // Dictionary: given, or self-similar from the observed patches (masked K-SVD).
+  t = Clock::now();
+  PatchDictionary::ConstPtr dictionary = dictionary_;
+  if (!dictionary) {
+    auto learned = std::make_shared<PatchDictionary>();
+    learned->setNumAtoms(std::min<int>(p.self_similar_atoms, static_cast<int>(usable.size())));
+    learned->setSparsity(std::min(p.sparsity, learned->getNumAtoms()));
+    learned->setIterations(p.self_similar_iterations);
+    learned->setSeed(p.seed + 1);
+    if (p.self_similar_max_patches > 0 && usable.size() > static_cast<std::size_t>(p.self_similar_max_patches)) {
+      // An evenly spaced subset: K-SVD time grows with the patch count, the atoms hardly do.
+      const Eigen::Index count = p.self_similar_max_patches;
+      Eigen::MatrixXd subset(bins, count);
+      ObservationMask subset_mask(bins, count);
+      for (Eigen::Index i = 0; i < count; ++i) {
+        const auto column = static_cast<Eigen::Index>(static_cast<double>(i) * static_cast<double>(usable.size()) /
+                                                      static_cast<double>(count));
+        subset.col(i) = usable_heights.col(column);
+        subset_mask.col(i) = usable_mask.col(column);
+      }
+      learned->learn(subset, subset_mask);
+    } else {
+      learned->learn(usable_heights, usable_mask);
+    }
+    dictionary = learned;
+    r.self_similar = true;
+  }
+  r.atoms = static_cast<int>(dictionary->atoms().cols());
+  r.seconds_dictionary = secondsSince(t);
+
+  // Sparse codes: masked OMP over the observed bins, stopping at `sparsity` atoms or, with an error
+  // target, once the residual over the observed bins is within ε rms (fully observed patches are
+  // coded by Batch-OMP, the others by masked OMP with the budget of their typical observed count).
+  t = Clock::now();
+  SparseCodingParameters coding;
+  coding.max_atoms = std::min<int>(p.sparsity, r.atoms);
+  std::vector<Eigen::Index> full, partial;
+  for (std::size_t u = 0; u < usable.size(); ++u)
+    (usable_mask.col(static_cast<Eigen::Index>(u)).all() ? full : partial).push_back(static_cast<Eigen::Index>(u));
+  Eigen::MatrixXd filled(bins, static_cast<Eigen::Index>(usable.size()));
+  double nonzeros = 0.0;
+  const auto code_columns = [&](const std::vector<Eigen::Index>& columns, bool masked) {
+    if (columns.empty())
+      return;
+    Eigen::MatrixXd heights(bins, static_cast<Eigen::Index>(columns.size()));
+    ObservationMask mask(bins, static_cast<Eigen::Index>(columns.size()));
+    std::vector<Eigen::Index> counts;
+    for (std::size_t i = 0; i < columns.size(); ++i) {
+      heights.col(static_cast<Eigen::Index>(i)) = usable_heights.col(columns[i]);
+      mask.col(static_cast<Eigen::Index>(i)) = usable_mask.col(columns[i]);
+      counts.push_back(mask.col(static_cast<Eigen::Index>(i)).count());
+    }
+    SparseCodingParameters parameters = coding;
+    if (p.error_per_bin > 0.0) {
+      std::nth_element(counts.begin(), counts.begin() + static_cast<std::ptrdiff_t>(counts.size() / 2), counts.end());
+      parameters.max_squared_error =
+          p.error_per_bin * p.error_per_bin * static_cast<double>(counts[counts.size() / 2]);
+    }
+    const PatchCodes codes = masked ? dictionary->encodeMasked(heights, mask, parameters)
+                                    : dictionary->encode(heights, parameters);
+    const Eigen::MatrixXd decoded = dictionary->decode(codes);
+    for (std::size_t i = 0; i < columns.size(); ++i)
+      filled.col(columns[i]) = decoded.col(static_cast<Eigen::Index>(i));
+    nonzeros += static_cast<double>(codes.coefficients.nonZeros());
+  };
+  code_columns(full, false);
+  code_columns(partial, true);
+  r.mean_atoms = nonzeros / static_cast<double>(usable.size());
+  std::vector<double> fit_rms(usable.size(), 0.0);
+  for (std::size_t u = 0; u < usable.size(); ++u) {
+    const Eigen::Index c = static_cast<Eigen::Index>(u);
+    double sum = 0.0;
+    Eigen::Index count = 0;
+    for (Eigen::Index b = 0; b < bins; ++b)
+      if (usable_mask(b, c)) {
+        const double d = filled(b, c) - usable_heights(b, c);
+        sum += d * d;
+        ++count;
+      }
+    fit_rms[u] = count ? std::sqrt(sum / static_cast<double>(count)) : 0.0;
+  }
+  r.seconds_coding = secondsSince(t);
+
+  // 3. Constraints on each target from the patches whose square holds it.
+  t = Clock::now();
+  std::vector<Eigen::Vector3d> usable_seeds(usable.size());
+  for (std::size_t u = 0; u < usable.size(); ++u)
+    usable_seeds[u] = patches.seeds[static_cast<std::size_t>(usable[u])];
+  const SeedGrid seed_grid(usable_seeds, radius);
+  const double edge = std::max(r.mean_edge_length, 1e-12);
+  const double sigma = p.centre_sigma * 0.5 * side;
+  // A target facing away from a patch's Z is on another sheet (a thin wall's far side): the
+  // patch sampled the sheet facing it (the same membership test as the reconstruction's).
+  const std::vector<Eigen::Vector3d> normals = computeVertexNormals(estimate);
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threadCount(p.num_threads))
+  for (std::ptrdiff_t ti = 0; ti < static_cast<std::ptrdiff_t>(targets_.size()); ++ti) {
+    const std::int32_t v = targets_[static_cast<std::size_t>(ti)];
+    const Eigen::Vector3d x0 = estimate.vertices[static_cast<std::size_t>(v)];
+    std::vector<std::int32_t> near;
+    seed_grid.query(x0, radius, near);
+    std::vector<PointToPlaneConstraint>& list = constraints[static_cast<std::size_t>(ti)];
+    std::vector<double> offsets;  // d = n·(x0 − p): the correction each patch asks for
+    for (std::int32_t u : near) {
+      const std::size_t k = static_cast<std::size_t>(usable[static_cast<std::size_t>(u)]);
+      const Eigen::Matrix3d& rotation = patches.rotations[k];
+      Eigen::Vector3d local;
+      if (!patchContains(patches.seeds[k], rotation, radius, x0, normals[static_cast<std::size_t>(v)], &local))
+        continue;
+      const auto column = filled.col(static_cast<Eigen::Index>(u));
+      const double h = bilinearHeight(column, grid, side, local.x(), local.y());
+      PointToPlaneConstraint c;
+      c.vertex = v;
+      c.point = patches.seeds[k] + rotation.transpose() * Eigen::Vector3d(local.x(), local.y(), h);
+      Eigen::Vector3d normal_local = Eigen::Vector3d::UnitZ();
+      if (p.surface_normals) {
+        // Central differences over one bin: the tangent plane of the patch surface at p.
+        const double step = side / grid;
+        const double hx = (bilinearHeight(column, grid, side, local.x() + step, local.y()) -
+                           bilinearHeight(column, grid, side, local.x() - step, local.y())) / (2.0 * step);
+        const double hy = (bilinearHeight(column, grid, side, local.x(), local.y() + step) -
+                           bilinearHeight(column, grid, side, local.x(), local.y() - step)) / (2.0 * step);
+        normal_local = Eigen::Vector3d(-hx, -hy, 1.0).normalized();
+      }
+      c.normal = rotation.transpose() * normal_local;
+      double w = 1.0;
+      if (sigma > 0.0)
+        w *= std::exp(-0.5 * (local.x() * local.x() + local.y() * local.y()) / (sigma * sigma));
+      if (p.observed_power > 0.0)
+        w *= std::pow(fraction[k], p.observed_power);
+      if (p.fit_scale > 0.0) {
+        const double q = fit_rms[static_cast<std::size_t>(u)] / (p.fit_scale * edge);
+        w /= 1.0 + q * q;
+      }
+      c.weight = w;
+      offsets.push_back(c.normal.dot(x0 - c.point));
+      list.push_back(c);
+    }
+    if (p.agreement_scale > 0.0 && list.size() > 1) {
+      // Agreement with the weighted median of the patches' offsets (robust to a stray patch).
+      std::vector<std::size_t> order(list.size());
+      for (std::size_t i = 0; i < order.size(); ++i)
+        order[i] = i;
+      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return offsets[a] < offsets[b]; });
+      double sum_w = 0.0;
+      for (const auto& c : list)
+        sum_w += c.weight;
+      double running = 0.0, median = offsets[order.back()];
+      for (std::size_t i : order) {
+        running += list[i].weight;
+        if (running >= 0.5 * sum_w) {
+          median = offsets[i];
+          break;
+        }
+      }
+      const double tau = p.agreement_scale * edge;
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        const double d = (offsets[i] - median) / tau;
+        list[i].weight *= std::exp(-0.5 * d * d);
+      }
+    }
+  }
+  for (const auto& list : constraints) {
+    if (!list.empty())
+      ++r.constrained_vertices;
+    r.constraints += list.size();
+  }
+  r.seconds_constraints = secondsSince(t);
+}
+
+}  // namespace patchdict
+}  // namespace pcl
