@@ -1,6 +1,7 @@
 // SparsePatchInpainter's hole and denoising modes, and the noise estimate they rely on.
 #include <pcl_patchdict/error.h>
 #include <pcl_patchdict/hole_filling.h>
+#include <pcl_patchdict/mesh_io.h>
 #include <pcl_patchdict/shapes.h>
 #include <pcl_patchdict/sparse_patch_inpainter.h>
 #include <pcl_patchdict/vertex_normals.h>
@@ -194,4 +195,42 @@ TEST(PatchRepairModes, BadParametersAndInputsAreErrors)
   parameters.error_factor = -1.0;
   inpainter.setParameters(parameters);
   EXPECT_THROW(inpainter.process(out), Error);
+}
+
+TEST(PatchRepairModes, DenoiseCommandKeepsTheMeshReportsJsonAndFailsInOneLine)
+{
+  test_support::TempDir dir;
+  const TriangleMesh noisy = noisySphere(4, 0.5 * makeIcosphere(4).meanEdgeLength(), 9);
+  writeMesh(dir.file("noisy.ply"), noisy);
+  const std::string before = test_support::readFile(dir.file("noisy.ply"));
+  auto result = test_support::runTool("denoise " + test_support::q(dir.file("noisy.ply")) + " --no-patches -o " +
+                                      test_support::q(dir.file("out.ply")) + " --json");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_TRUE(test_support::isOneLine(result.out)) << result.out;
+  EXPECT_GT(test_support::jsonNumber(result.out, "base_iterations"), 0.0);
+  const double sigma_edges = test_support::jsonNumber(result.out, "noise_sigma_over_mean_edge");
+  EXPECT_GT(sigma_edges, 0.3);  // 0.5 × the clean mesh's edge; the noisy mesh's edges are longer
+  EXPECT_LT(sigma_edges, 0.6);
+  TriangleMesh out;
+  readMesh(dir.file("out.ply"), out);
+  EXPECT_EQ(out.faces, noisy.faces);
+  EXPECT_LT(sphereRmse(out), 0.6 * sphereRmse(noisy));
+  EXPECT_EQ(test_support::readFile(dir.file("noisy.ply")), before);
+
+  result = test_support::runTool("denoise " + test_support::q(dir.file("noisy.ply")) + " -o " +
+                                 test_support::q(dir.file("noisy.ply")));
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_TRUE(test_support::endsWithOneErrorLine(result.err)) << result.err;
+  EXPECT_EQ(test_support::readFile(dir.file("noisy.ply")), before);
+  TriangleMesh cloud = noisy;
+  cloud.faces.clear();
+  writeMesh(dir.file("cloud.ply"), cloud);
+  result = test_support::runTool("denoise " + test_support::q(dir.file("cloud.ply")) + " -o " +
+                                 test_support::q(dir.file("c.ply")) + " --quiet");
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_TRUE(test_support::endsWithOneErrorLine(result.err)) << result.err;
+  result = test_support::runTool("denoise " + test_support::q(dir.file("noisy.ply")) + " -o " +
+                                 test_support::q(dir.file("d.ply")) + " --noise 0.01 --noise-edges 0.5");
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_TRUE(test_support::isOneLine(result.err)) << result.err;
 }
