@@ -1,23 +1,24 @@
-// `pcl_patchdict demo`: the main job on the bundled Stanford bunny, with no arguments.
-// Until the repair pipeline lands, it shows the stages that exist: load, hygiene, unit-cube
-// normalisation, the metrics on a copy perturbed along its normals, and the patch engine — exact
-// height maps, a learned dictionary, sparse codes, and masked coding filling a hole in each patch.
+// `pcl_patchdict demo`: the main job on the bundled Stanford bunny, with no arguments. It damages a
+// clean copy with a fixed seed — 20 % of the vertices dropped, 6 holes punched, Gaussian noise
+// along the normals — repairs each with the geometric base alone and with patches, prints a table
+// of errors and times, and writes the meshes and pictures to a folder it names.
 #include "cli.h"
-#include "patch_seeds.h"
 
-#include <pcl_patchdict/height_map_patch_extractor.h>
+#include <pcl_patchdict/hole_filling.h>
+#include <pcl_patchdict/mesh_damage.h>
 #include <pcl_patchdict/mesh_hygiene.h>
-#include <pcl_patchdict/patch_dictionary.h>
+#include <pcl_patchdict/mesh_render.h>
 #include <pcl_patchdict/metrics.h>
 #include <pcl_patchdict/normalization.h>
-#include <pcl_patchdict/vertex_normals.h>
+#include <pcl_patchdict/sparse_patch_inpainter.h>
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <iostream>
-#include <cmath>
-#include <random>
+#include <limits>
 
 namespace pcl {
 namespace patchdict {
@@ -44,144 +45,182 @@ std::string findBundledMesh(const std::string& name)
   throw Error("bundled mesh '" + name + "' not found (set PCL_PATCHDICT_DATA to the project's data/ directory)");
 }
 
+/** One row of the demo's table. */
+struct Row {
+  std::string task, method;
+  double error = 0.0, second_error = -1.0;  // ×1e-3 of the unit cube
+  double seconds = 0.0;
+};
+
+double secondsOf(const std::function<void()>& work)
+{
+  const auto start = std::chrono::steady_clock::now();
+  work();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/** The mesh rendered with faces from `first_new_face` on in orange (a fill), as PNG. */
+void picture(const std::string& path, const TriangleMesh& mesh, std::size_t first_new_face)
+{
+  std::vector<std::vector<std::int32_t>> faces;
+  std::vector<std::array<std::uint8_t, 3>> colours;
+  for (std::size_t f = 0; f < mesh.numFaces(); ++f) {
+    faces.push_back({mesh.faces[f][0], mesh.faces[f][1], mesh.faces[f][2]});
+    colours.push_back(f >= first_new_face ? std::array<std::uint8_t, 3>{235, 140, 40}
+                                          : std::array<std::uint8_t, 3>{200, 200, 200});
+  }
+  RenderOptions options;
+  options.width = options.height = 600;
+  options.draw_edges = false;
+  writePolygonsPNG(path, mesh.vertices, faces, colours, options);
+}
+
 }  // namespace
 
 int runDemo(const std::vector<std::string>& raw)
 {
   auto value_options = commonValueOptions();
-  value_options.insert("png");
-  const Arguments args(raw, value_options, commonFlagOptions());
-  args.expectPositionals(0, 0, "pcl_patchdict demo [--json] [--seed X] [--png ATOMS.png]");
+  value_options.insert("out");
+  auto flag_options = commonFlagOptions();
+  flag_options.insert("no-pictures");
+  const Arguments args(raw, value_options, flag_options);
+  args.expectPositionals(0, 0, "pcl_patchdict demo [--out DIR] [--seed X] [--no-pictures] [--json]");
   applyCommonOptions(args);
   const bool quiet = args.has("quiet") || args.has("json");
   const auto seed = static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62)));
+  const std::string out_dir = args.get("out", "pcl_patchdict_demo");
+  const bool pictures = !args.has("no-pictures");
 
   StageTimer timer(quiet);
   timer.start("load");
   const std::string path = findBundledMesh("bunny.obj");
-  TriangleMesh mesh = loadMesh(path, quiet);
-  const MeshHygieneReport report = inspectMesh(mesh);
-
-  timer.start("clean_and_normalise");
-  const MeshCleanupResult cleanup = cleanMesh(mesh);
+  TriangleMesh truth = loadMesh(path, quiet);
+  const MeshCleanupResult cleanup = cleanMesh(truth);
   note(quiet, "  " + cleanup.summary());
-  const UnitCubeNormalization normalization = UnitCubeNormalization::fromMesh(mesh);
-  normalization.apply(mesh);
-  const double mean_edge = mesh.meanEdgeLength();
-
-  // Gaussian noise along the normals, σ = 0.25 × mean edge: the protocol's mild denoising case.
-  timer.start("perturb");
-  const double sigma = 0.25 * mean_edge;
-  const auto normals = computeVertexNormals(mesh);
-  TriangleMesh noisy = mesh;
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> gaussian(0.0, sigma);
-  for (std::size_t v = 0; v < noisy.vertices.size(); ++v)
-    noisy.vertices[v] += gaussian(rng) * normals[v];
-
-  timer.start("eval");
-  const double rmse = vertexRMSE(mesh, noisy);
-  const SurfaceDistance distance = surfaceDistance(mesh, noisy, 200000, seed);
-
-  // Patches at random surface points with frames from the interpolated normal (the quad-mesh
-  // frames of the paper arrive with the quad stage): 16×16 exact height maps of side 0.03.
-  timer.start("patches");
-  const int grid = 16, train_count = 2000, test_count = 1000;
-  const SeedsAndFrames seeds = randomSeedsAndFrames(mesh, train_count + test_count, seed + 7);
-  HeightMapPatchExtractor extractor;
-  extractor.setInputMesh(mesh);
-  extractor.setSeeds(seeds.seeds, seeds.frames);
-  extractor.setRadius(0.03 / std::sqrt(2.0));
-  extractor.setGridSize(grid);
-  PatchSet patches;
-  extractor.compute(patches);
-
-  timer.start("learn");
-  PatchDictionary dictionary;
-  dictionary.setNumAtoms(100);
-  dictionary.setSparsity(8);
-  dictionary.setIterations(10);
-  dictionary.setSeed(seed);
-  dictionary.learn(patches.heights.leftCols(train_count), patches.observed.leftCols(train_count));
-  if (args.has("png"))
-    dictionary.saveAtomsPNG(args.get("png"), 20, 3);
-
-  // Held-out patches: coded whole, and coded with a disk of bins (about a quarter) hidden.
-  timer.start("code");
-  const Eigen::MatrixXd test = patches.heights.rightCols(test_count);
-  ObservationMask observed = patches.observed.rightCols(test_count);
-  ObservationMask damaged = observed;
-  for (Eigen::Index p = 0; p < test_count; ++p)
-    for (int b = 0; b < grid * grid; ++b)
-      if (std::hypot(b % grid - 7.5, b / grid - 7.5) < 4.5)
-        damaged(b, p) = false;
-  const Eigen::MatrixXd coded = dictionary.decode(dictionary.encodeMasked(test, observed, {8, 0.0}));
-  const Eigen::MatrixXd filled = dictionary.decode(dictionary.encodeMasked(test, damaged, {8, 0.0}));
-  double coded_error = 0.0, filled_error = 0.0, quadric_error = 0.0;
-  std::size_t coded_count = 0, hole_count = 0;
-  for (Eigen::Index i = 0; i < test.size(); ++i) {
-    if (!observed.data()[i])
-      continue;
-    coded_error += std::pow(coded.data()[i] - test.data()[i], 2);
-    ++coded_count;
+  UnitCubeNormalization::fromMesh(truth).apply(truth);
+  {
+    // The scan's own openings (the bunny has 5, under its base) closed first, so that the truth is
+    // watertight and every hole the demo fills is one it punched.
+    HoleFilling closing;
+    closing.setInputMesh(truth);
+    closing.setOuterBoundaryFraction(std::numeric_limits<double>::infinity());
+    TriangleMesh closed;
+    closing.process(closed);
+    truth = std::move(closed);
   }
-  // The smooth-geometry answer to the same hole: a least-squares quadric z(x, y) through the
-  // patch's remaining bins — what a patch dictionary has to beat.
-  for (Eigen::Index p = 0; p < test_count; ++p) {
-    Eigen::MatrixXd design(grid * grid, 6);
-    Eigen::VectorXd heights(grid * grid);
-    int rows = 0;
-    for (int b = 0; b < grid * grid; ++b)
-      if (damaged(b, p)) {
-        const double x = b % grid - 7.5, y = b / grid - 7.5;
-        design.row(rows) << 1.0, x, y, x * x, x * y, y * y;
-        heights[rows++] = test(b, p);
-      }
-    const Eigen::VectorXd quadric =
-        design.topRows(rows).colPivHouseholderQr().solve(heights.head(rows));
-    for (int b = 0; b < grid * grid; ++b)
-      if (observed(b, p) && !damaged(b, p)) {
-        const double x = b % grid - 7.5, y = b / grid - 7.5;
-        const double smooth = quadric[0] + quadric[1] * x + quadric[2] * y + quadric[3] * x * x +
-                              quadric[4] * x * y + quadric[5] * y * y;
-        filled_error += std::pow(filled(b, p) - test(b, p), 2);
-        quadric_error += std::pow(smooth - test(b, p), 2);
-        ++hole_count;
-      }
+  const double mean_edge = truth.meanEdgeLength();
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec)
+    throw Error("cannot create the demo folder '" + out_dir + "': " + ec.message());
+  const auto file = [&](const std::string& name) { return (std::filesystem::path(out_dir) / name).string(); };
+  writeMesh(file("truth.ply"), truth);
+  std::vector<Row> rows;
+
+  // 1. Missing vertices: 20 % dropped; their stored positions are garbage (the origin).
+  timer.start("missing_vertices");
+  const std::vector<int> missing = pickMissingVertices(truth, 0.2, seed);
+  TriangleMesh damaged = truth;
+  for (int v : missing)
+    damaged.vertices[static_cast<std::size_t>(v)] = Eigen::Vector3d::Zero();
+  for (bool patches : {false, true}) {
+    SparsePatchInpainter inpainter;
+    inpainter.setInputMesh(damaged);
+    inpainter.setMissingVertices(missing);
+    inpainter.setUsePatches(patches);
+    inpainter.setParameters(SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::MissingVertices));
+    TriangleMesh repaired;
+    Row row{"missing 20 %", patches ? "bi-Laplacian + patches" : "bi-Laplacian"};
+    row.seconds = secondsOf([&] { inpainter.process(repaired); });
+    row.error = 1e3 * vertexRMSE(truth, repaired, missing);
+    rows.push_back(row);
+    writeMesh(file(patches ? "missing_patches.ply" : "missing_bilaplacian.ply"), repaired);
   }
-  const double patch_rmse = std::sqrt(coded_error / static_cast<double>(std::max<std::size_t>(coded_count, 1)));
-  const double hole_rmse = std::sqrt(filled_error / static_cast<double>(std::max<std::size_t>(hole_count, 1)));
-  const double quadric_rmse = std::sqrt(quadric_error / static_cast<double>(std::max<std::size_t>(hole_count, 1)));
+
+  // 2. Holes: 6 of radius 0.035 (the protocol's largest).
+  timer.start("holes");
+  const HoledMesh holed = punchHoles(truth, 6, 0.035, seed + 1);
+  writeMesh(file("holes_input.ply"), holed.mesh);
+  std::vector<Eigen::Vector3d> removed_points;
+  for (std::int32_t v : holed.removed)
+    removed_points.push_back(truth.vertices[static_cast<std::size_t>(v)]);
+  if (pictures)
+    picture(file("holes_input.png"), holed.mesh, holed.mesh.numFaces());
+  for (bool patches : {false, true}) {
+    SparsePatchInpainter inpainter;
+    inpainter.setMode(SparsePatchInpainter::Mode::Holes);
+    inpainter.setInputMesh(holed.mesh);
+    inpainter.setUsePatches(patches);
+    inpainter.setParameters(SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes));
+    TriangleMesh filled;
+    Row row{"holes r 0.035", patches ? "Liepa + patches" : "Liepa"};
+    row.seconds = secondsOf([&] { inpainter.process(filled); });
+    row.error = 1e3 * pointsToSurfaceDistance(removed_points, filled).mean;
+    std::vector<Eigen::Vector3d> new_points(filled.vertices.begin() + static_cast<std::ptrdiff_t>(holed.mesh.numVertices()),
+                                            filled.vertices.end());
+    row.second_error = 1e3 * pointsToSurfaceDistance(new_points, truth).mean;
+    rows.push_back(row);
+    const std::string name = patches ? "holes_patches" : "holes_liepa";
+    writeMesh(file(name + ".ply"), filled);
+    if (pictures)
+      picture(file(name + ".png"), filled, holed.mesh.numFaces());
+  }
+
+  // 3. Noise: σ = 0.5 × mean edge along the normals.
+  timer.start("denoise");
+  const TriangleMesh noisy = addNormalNoise(truth, 0.5 * mean_edge, seed + 2);
+  writeMesh(file("noise_input.ply"), noisy);
+  rows.push_back(Row{"noise 0.5 edge", "noisy input", 1e3 * vertexRMSE(truth, noisy), -1.0, 0.0});
+  for (bool patches : {false, true}) {
+    SparsePatchInpainter inpainter;
+    inpainter.setMode(SparsePatchInpainter::Mode::Denoise);
+    inpainter.setInputMesh(noisy);
+    inpainter.setUsePatches(patches);
+    inpainter.setParameters(SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Denoise));
+    TriangleMesh denoised;
+    Row row{"noise 0.5 edge", patches ? "Taubin + self-similar patches" : "Taubin (discrepancy)"};
+    row.seconds = secondsOf([&] { inpainter.process(denoised); });
+    row.error = 1e3 * vertexRMSE(truth, denoised);
+    rows.push_back(row);
+    writeMesh(file(patches ? "denoise_patches.ply" : "denoise_taubin.ply"), denoised);
+  }
   timer.stop();
 
   if (args.has("json")) {
     JsonObject json;
-    json.add("command", "demo").add("input", path).add("vertices", report.vertices).add("faces", report.faces);
-    json.add("unreferenced_vertices", report.unreferenced_vertices).add("boundary_loops", report.boundary_loops);
-    json.add("mean_edge", mean_edge).add("noise_sigma", sigma).add("vertex_rmse", rmse);
-    json.add("surface_mean", distance.mean).add("surface_rms", distance.rms).add("hausdorff", distance.hausdorff);
-    json.add("psnr_db", distance.psnr);
-    json.add("patches", patches.numPatches()).add("observed_fraction", patches.observedFraction());
-    json.add("patch_rmse", patch_rmse).add("hole_rmse", hole_rmse).add("hole_rmse_quadric", quadric_rmse);
-    json.add("seconds", timer.json());
+    json.add("command", "demo").add("input", path).add("vertices", truth.numVertices());
+    json.add("faces", truth.numFaces()).add("mean_edge", mean_edge).add("folder", out_dir);
+    json.add("missing_vertices", missing.size()).add("holes", holed.centres.size());
+    json.add("removed_vertices", holed.removed.size());
+    const char* keys[] = {"missing_bilaplacian", "missing_patches", "holes_liepa", "holes_patches",
+                          "noisy",               "denoise_taubin",  "denoise_patches"};
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const std::string key = keys[i];
+      json.add(key + "_error", rows[i].error);
+      if (rows[i].second_error >= 0.0)
+        json.add(key + "_new_vertices_error", rows[i].second_error);
+    }
+    JsonObject seconds = timer.json();
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      seconds.add(keys[i], rows[i].seconds);
+    json.add("seconds", seconds);
     std::cout << json.str() << '\n';
     return 0;
   }
-  std::printf("pcl_patchdict demo — %s\n", path.c_str());
-  std::printf("  mesh: %s\n", report.summary().c_str());
-  std::printf("  normalised to the unit cube: mean edge %.6g, bbox diagonal %.6g\n", mean_edge,
-              mesh.boundingBoxDiagonal());
-  std::printf("  noisy copy (Gaussian along normals, sigma = %.3g = 0.25 x mean edge):\n", sigma);
-  std::printf("    vertex RMSE %.6g, surface distance mean %.6g / rms %.6g, Hausdorff %.6g, PSNR %.2f dB\n", rmse,
-              distance.mean, distance.rms, distance.hausdorff, distance.psnr);
-  std::printf("  patches: %zu exact 16x16 height maps of side 0.03 (%.1f %% of bins on the surface)\n",
-              patches.numPatches(), 100.0 * patches.observedFraction());
-  std::printf("    100-atom dictionary learned from %d of them; the %d others coded with 8 atoms:\n", train_count,
-              test_count);
-  std::printf("    height RMSE %.3g; with a central disk of bins hidden, its heights predicted to RMSE %.3g\n",
-              patch_rmse, hole_rmse);
-  std::printf("    (a least-squares quadric through the remaining bins: RMSE %.3g)\n", quadric_rmse);
-  std::printf("  (repair subcommands arrive with the next stages: see 'pcl_patchdict help')\n");
+  std::printf("pcl_patchdict demo: %s (%zu vertices, mean edge %.4g in the unit cube), seed %llu\n",
+              path.c_str(), truth.numVertices(), mean_edge, static_cast<unsigned long long>(seed));
+  std::printf("errors x1e-3 of the unit cube: missing = RMSE of the %zu dropped vertices; holes = mean distance of\n"
+              "the %zu removed true vertices to the output (new vertices to the truth); noise = vertex RMSE\n\n",
+              missing.size(), holed.removed.size());
+  std::printf("  %-16s %-30s %10s %12s %9s\n", "task", "method", "error", "(new verts)", "seconds");
+  for (const Row& row : rows) {
+    char second[32] = "";
+    if (row.second_error >= 0.0)
+      std::snprintf(second, sizeof second, "%.4f", row.second_error);
+    std::printf("  %-16s %-30s %10.4f %12s %9.2f\n", row.task.c_str(), row.method.c_str(), row.error, second,
+                row.seconds);
+  }
+  std::printf("\nmeshes%s in %s/\n", pictures ? " and pictures" : "", out_dir.c_str());
   return 0;
 }
 

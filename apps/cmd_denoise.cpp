@@ -1,6 +1,10 @@
-// `pcl_patchdict denoise IN [--dict DICT.pdd | --no-patches] -o OUT`: every patch replaced by its
-// sparse approximation to an error target matched to the noise (SparsePatchInpainter, Denoise).
-// Vertex count, order and faces kept.
+// `pcl_patchdict denoise IN [--dict DICT.pdd | --self-similar | --no-patches] -o OUT`: the
+// geometric base (TaubinSmoother, iterations by the discrepancy principle), then, with a
+// dictionary, every patch replaced by its sparse approximation to an error target matched to the
+// noise (SparsePatchInpainter, Denoise). Vertex count, order and faces kept.
+// Without --dict no patches are used unless --self-similar asks for a dictionary learned from the
+// noisy input itself: nothing of a noisy input is intact, and measured on scans such a dictionary
+// makes the result worse than the base (README "Measured").
 #include "cli.h"
 #include "repair_options.h"
 
@@ -17,7 +21,7 @@ namespace cli {
 namespace {
 
 const char* const kUsage =
-    "pcl_patchdict denoise IN [--dict DICT.pdd | --no-patches] -o OUT [--noise S | --noise-edges K] "
+    "pcl_patchdict denoise IN [--dict DICT.pdd | --self-similar | --no-patches] -o OUT [--noise S | --noise-edges K] "
     "[--base-iterations T] [--discrepancy D] [--error-factor E] [--fidelity A] [--quad-length L] [--quad-factor C] [--sparsity S] [--json]";
 
 }  // namespace
@@ -28,11 +32,13 @@ int runDenoise(const std::vector<std::string>& raw)
   value_options.insert({"output", "noise", "noise-edges", "error-factor", "fidelity", "base-iterations", "discrepancy"});
   value_options.insert(repairValueOptions().begin(), repairValueOptions().end());
   auto flag_options = commonFlagOptions();
-  flag_options.insert("no-patches");
+  flag_options.insert({"no-patches", "self-similar"});
   const Arguments args(raw, value_options, flag_options);
   args.expectPositionals(1, 1, kUsage);
   if (!args.has("output"))
     throw UsageError("usage: " + std::string(kUsage));
+  if (args.has("self-similar") && (args.has("dict") || args.has("no-patches")))
+    throw UsageError("--self-similar excludes --dict and --no-patches");
   if (args.has("noise") && args.has("noise-edges"))
     throw UsageError("--noise and --noise-edges exclude each other");
   applyCommonOptions(args);
@@ -42,9 +48,8 @@ int runDenoise(const std::vector<std::string>& raw)
   if (formatFromPath(out_path) == MeshFormat::Unknown || formatFromPath(out_path) == MeshFormat::PCD ||
       formatFromPath(out_path) == MeshFormat::STL)
     throw Error("output '" + out_path + "' must be a mesh file that keeps vertex order (.ply, .obj, .off)");
-  SparsePatchInpainter::Parameters parameters;
-  parameters.quad_length_factor = 6.0;
-  parameters.sparsity = 20;
+  SparsePatchInpainter::Parameters parameters =
+      SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Denoise);
   readRepairOptions(args, parameters);
   parameters.noise_sigma = args.getDouble("noise", 0.0, 0.0, 1.0);
   parameters.error_factor = args.getDouble("error-factor", parameters.error_factor, 0.0, 100.0);
@@ -70,7 +75,8 @@ int runDenoise(const std::vector<std::string>& raw)
   inpainter.setMode(SparsePatchInpainter::Mode::Denoise);
   inpainter.setInputMesh(mesh);
   inpainter.setDictionary(dictionary);
-  inpainter.setUsePatches(!args.has("no-patches"));
+  const bool use_patches = args.has("dict") || args.has("self-similar");
+  inpainter.setUsePatches(use_patches);
   inpainter.setParameters(parameters);
   TriangleMesh denoised;
   SparsePatchInpainter::Report report;
@@ -92,7 +98,7 @@ int runDenoise(const std::vector<std::string>& raw)
     JsonObject json;
     json.add("command", "denoise").add("input", in_path).add("output", out_path);
     json.add("vertices", mesh.numVertices()).add("faces", mesh.numFaces());
-    json.add("patches", report.used_patches).add("dictionary", dictionaryKind(args));
+    json.add("patches", report.used_patches).add("dictionary", (use_patches ? dictionaryKind(args) : std::string("none")));
     json.add("noise_sigma", report.noise_sigma).add("noise_estimated", report.noise_estimated);
     json.add("base_iterations", report.base_iterations);
     json.add("noise_sigma_over_mean_edge", report.noise_sigma / std::max(report.mean_edge_length, 1e-300));
@@ -105,7 +111,7 @@ int runDenoise(const std::vector<std::string>& raw)
     std::cout << json.str() << '\n';
   } else if (!quiet) {
     std::printf("denoised %zu vertices (%s) -> %s\n", mesh.numVertices(),
-                report.used_patches ? (dictionaryKind(args) + " dictionary").c_str() : "Taubin base alone",
+                report.used_patches ? ((use_patches ? dictionaryKind(args) : std::string("none")) + " dictionary").c_str() : "Taubin base alone",
                 out_path.c_str());
   }
   return 0;

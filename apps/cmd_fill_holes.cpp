@@ -49,7 +49,8 @@ int runFillHoles(const std::vector<std::string>& raw)
   if (formatFromPath(out_path) == MeshFormat::Unknown || formatFromPath(out_path) == MeshFormat::PCD)
     throw Error("output '" + out_path + "' must be a mesh file (.ply, .obj, .off, .stl)");
 
-  SparsePatchInpainter::Parameters parameters;
+  SparsePatchInpainter::Parameters parameters =
+      SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes);
   readRepairOptions(args, parameters);
   parameters.hole_quad_factor = args.getDouble("hole-factor", parameters.hole_quad_factor, 0.0, 100.0);
 

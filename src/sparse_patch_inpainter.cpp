@@ -4,10 +4,10 @@
 // denoising. Patches and dictionaries: Sarkar, Varanasi & Stricker, 3DV 2017, sections 4.3 and 5.3.
 #include <pcl_patchdict/sparse_patch_inpainter.h>
 
-#include <pcl_patchdict/coarse_mesh_estimation.h>
 #include <pcl_patchdict/error.h>
 #include <pcl_patchdict/mesh_topology.h>
 #include <pcl_patchdict/normalization.h>
+#include <pcl_patchdict/taubin_smoothing.h>
 #include <pcl_patchdict/vertex_normals.h>
 
 #include <Eigen/Dense>
@@ -88,6 +88,19 @@ double meanCorrection(const std::vector<Eigen::Vector3d>& now, const std::vector
 }
 
 }  // namespace
+
+SparsePatchInpainter::Parameters SparsePatchInpainter::defaultParameters(Mode mode)
+{
+  Parameters parameters;
+  if (mode == Mode::Holes) {
+    parameters.constraint_weight = 0.1;
+    parameters.fit_scale = 0.02;
+  } else if (mode == Mode::Denoise) {
+    parameters.quad_length_factor = 6.0;
+    parameters.sparsity = 20;
+  }
+  return parameters;
+}
 
 double SparsePatchInpainter::estimateNoiseSigma(const TriangleMesh& mesh)
 {
@@ -280,9 +293,7 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
   r.noise_estimated = !(p.noise_sigma > 0.0);
   TriangleMesh work = noisy;
   {
-    CoarseMeshEstimation smoother;
-    smoother.setMethod(CoarseMeshEstimation::Method::Taubin);
-    smoother.setIterations(1);
+    const TaubinSmoother smoother(noisy);
     const int fixed = p.base_iterations;
     const int limit = fixed >= 0 ? fixed : p.max_base_iterations;
     for (int iteration = 0; iteration < limit; ++iteration) {
@@ -293,10 +304,7 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
         if (std::sqrt(sum / static_cast<double>(n)) >= p.discrepancy * r.noise_sigma)
           break;
       }
-      smoother.setInputMesh(work);
-      TriangleMesh next;
-      smoother.process(next);
-      work.vertices = std::move(next.vertices);
+      smoother.iterate(work.vertices);
       ++r.base_iterations;
     }
   }

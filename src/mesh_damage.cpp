@@ -1,0 +1,108 @@
+// Seeded damage (see mesh_damage.h).
+#include <pcl_patchdict/mesh_damage.h>
+
+#include <pcl_patchdict/error.h>
+#include <pcl_patchdict/vertex_normals.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace pcl {
+namespace patchdict {
+
+HoledMesh punchHoles(const TriangleMesh& mesh, int count, double radius, std::uint64_t seed)
+{
+  if (mesh.faces.empty())
+    throw Error("punching holes needs a mesh with faces");
+  if (count < 1 || !(radius > 0.0) || !std::isfinite(radius))
+    throw Error("holes: the count must be ≥ 1 and the radius > 0");
+  const std::size_t n = mesh.numVertices();
+  std::vector<std::int32_t> used;
+  {
+    std::vector<bool> in_face(n, false);
+    for (const Face& f : mesh.faces)
+      for (std::int32_t v : f)
+        in_face[static_cast<std::size_t>(v)] = true;
+    for (std::size_t v = 0; v < n; ++v)
+      if (in_face[v])
+        used.push_back(static_cast<std::int32_t>(v));
+  }
+  std::mt19937_64 rng(seed);
+  std::shuffle(used.begin(), used.end(), rng);
+  HoledMesh out;
+  for (std::int32_t v : used) {
+    const Eigen::Vector3d& p = mesh.vertices[static_cast<std::size_t>(v)];
+    bool far = true;
+    for (const auto& c : out.centres)
+      far = far && (p - c).norm() >= 4.0 * radius;
+    if (far)
+      out.centres.push_back(p);
+    if (static_cast<int>(out.centres.size()) == count)
+      break;
+  }
+  std::vector<bool> near(n, false);
+  for (std::size_t v = 0; v < n; ++v)
+    for (const auto& c : out.centres)
+      if ((mesh.vertices[v] - c).norm() <= radius)
+        near[v] = true;
+  std::vector<bool> kept(n, false);
+  std::vector<Face> faces;
+  for (const Face& f : mesh.faces)
+    if (!near[static_cast<std::size_t>(f[0])] && !near[static_cast<std::size_t>(f[1])] &&
+        !near[static_cast<std::size_t>(f[2])]) {
+      faces.push_back(f);
+      for (std::int32_t v : f)
+        kept[static_cast<std::size_t>(v)] = true;
+    }
+  std::vector<std::int32_t> new_index(n, -1);
+  for (std::size_t v = 0; v < n; ++v) {
+    if (kept[v]) {
+      new_index[v] = static_cast<std::int32_t>(out.mesh.vertices.size());
+      out.mesh.vertices.push_back(mesh.vertices[v]);
+      out.original_index.push_back(static_cast<std::int32_t>(v));
+    } else {
+      out.removed.push_back(static_cast<std::int32_t>(v));
+    }
+  }
+  for (Face f : faces) {
+    for (auto& v : f)
+      v = new_index[static_cast<std::size_t>(v)];
+    out.mesh.faces.push_back(f);
+  }
+  return out;
+}
+
+std::vector<int> pickMissingVertices(const TriangleMesh& mesh, double fraction, std::uint64_t seed)
+{
+  if (!(fraction > 0.0 && fraction < 1.0))
+    throw Error("the missing fraction must be in (0, 1)");
+  std::vector<bool> in_face(mesh.numVertices(), false);
+  for (const Face& f : mesh.faces)
+    for (std::int32_t v : f)
+      in_face[static_cast<std::size_t>(v)] = true;
+  std::vector<int> candidates;
+  for (std::size_t v = 0; v < in_face.size(); ++v)
+    if (in_face[v])
+      candidates.push_back(static_cast<int>(v));
+  std::mt19937_64 rng(seed);
+  std::shuffle(candidates.begin(), candidates.end(), rng);
+  const auto count = static_cast<std::size_t>(std::llround(fraction * static_cast<double>(mesh.numVertices())));
+  candidates.resize(std::min(candidates.size(), count));
+  std::sort(candidates.begin(), candidates.end());
+  return candidates;
+}
+
+TriangleMesh addNormalNoise(const TriangleMesh& mesh, double sigma, std::uint64_t seed)
+{
+  const std::vector<Eigen::Vector3d> normals = computeVertexNormals(mesh);
+  TriangleMesh out = mesh;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> gaussian(0.0, sigma);
+  for (std::size_t v = 0; v < out.vertices.size(); ++v)
+    out.vertices[v] += gaussian(rng) * normals[v];
+  return out;
+}
+
+}  // namespace patchdict
+}  // namespace pcl

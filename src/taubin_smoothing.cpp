@@ -1,0 +1,82 @@
+// TaubinSmoother (see taubin_smoothing.h). G. Taubin, "A signal processing approach to fair surface
+// design", SIGGRAPH 1995; inverse-distance weights: K. Fujiwara, "Eigenvalues of Laplacians on a
+// closed Riemannian manifold and its nets", Proc. AMS 1995 (as in Open3D's smoothing filters).
+#include <pcl_patchdict/taubin_smoothing.h>
+
+#include <pcl_patchdict/error.h>
+#include <pcl_patchdict/mesh_topology.h>
+
+#include <string>
+
+namespace pcl {
+namespace patchdict {
+
+TaubinSmoother::TaubinSmoother(const TriangleMesh& mesh, double lambda, double mu) : lambda_(lambda), mu_(mu)
+{
+  const std::size_t n = mesh.numVertices();
+  for (const Face& f : mesh.faces)
+    for (std::int32_t v : f)
+      if (v < 0 || static_cast<std::size_t>(v) >= n)
+        throw Error("Taubin smoothing: a face refers to vertex " + std::to_string(v) + " of " + std::to_string(n));
+  for (std::size_t v = 0; v < n; ++v)
+    if (!mesh.vertices[v].allFinite())
+      throw Error("Taubin smoothing: vertex " + std::to_string(v) + " is not finite");
+  // Interior vertices average their 1-ring; boundary (and non-manifold) vertices their boundary
+  // neighbours only, so rims slide along themselves instead of shrinking inwards.
+  const EdgeFaceAdjacency adjacency = computeEdgeFaceAdjacency(mesh);
+  std::vector<std::vector<std::int32_t>> ring(n), boundary_ring(n);
+  for (const MeshEdge& e : adjacency.edges) {
+    ring[static_cast<std::size_t>(e.v0)].push_back(e.v1);
+    ring[static_cast<std::size_t>(e.v1)].push_back(e.v0);
+    if (!e.isManifold() || e.isBoundary()) {
+      boundary_ring[static_cast<std::size_t>(e.v0)].push_back(e.v1);
+      boundary_ring[static_cast<std::size_t>(e.v1)].push_back(e.v0);
+    }
+  }
+  offsets_.assign(n + 1, 0);
+  for (std::size_t v = 0; v < n; ++v) {
+    const auto& chosen = boundary_ring[v].empty() ? ring[v] : boundary_ring[v];
+    double total = 0.0;
+    const std::size_t first = neighbours_.size();
+    for (std::int32_t w : chosen) {
+      const double weight = 1.0 / ((mesh.vertices[static_cast<std::size_t>(w)] - mesh.vertices[v]).norm() + 1e-12);
+      neighbours_.push_back(w);
+      weights_.push_back(weight);
+      total += weight;
+    }
+    for (std::size_t i = first; i < weights_.size(); ++i)
+      weights_[i] /= total;
+    offsets_[v + 1] = static_cast<std::int64_t>(neighbours_.size());
+  }
+}
+
+void TaubinSmoother::step(std::vector<Eigen::Vector3d>& positions, double factor) const
+{
+  const std::size_t n = offsets_.size() - 1;
+  if (positions.size() != n)
+    throw Error("Taubin smoothing: " + std::to_string(positions.size()) + " positions for " + std::to_string(n) +
+                " vertices");
+  std::vector<Eigen::Vector3d> next(n);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(n); ++i) {
+    const std::size_t v = static_cast<std::size_t>(i);
+    if (offsets_[v] == offsets_[v + 1]) {
+      next[v] = positions[v];
+      continue;
+    }
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (std::int64_t k = offsets_[v]; k < offsets_[v + 1]; ++k)
+      mean += weights_[static_cast<std::size_t>(k)] * positions[static_cast<std::size_t>(neighbours_[static_cast<std::size_t>(k)])];
+    next[v] = positions[v] + factor * (mean - positions[v]);
+  }
+  positions.swap(next);
+}
+
+void TaubinSmoother::iterate(std::vector<Eigen::Vector3d>& positions) const
+{
+  step(positions, lambda_);
+  step(positions, mu_);
+}
+
+}  // namespace patchdict
+}  // namespace pcl
