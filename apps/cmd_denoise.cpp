@@ -22,7 +22,7 @@ namespace {
 
 const char* const kUsage =
     "pcl_patchdict denoise IN [--dict DICT.pdd | --self-similar | --no-patches] -o OUT [--noise S | --noise-edges K] "
-    "[--base-iterations T] [--discrepancy D] [--error-factor E] [--fidelity A] [--quad-length L] [--quad-factor C] [--sparsity S] [--json]";
+    "[--base-iterations T] [--discrepancy D] [--error-factor E] [--fidelity A] [--quad-length L] [--quad-factor C] [--sparsity S] [--report DIR [--ref REF]] [--json]";
 
 }  // namespace
 
@@ -93,6 +93,7 @@ int runDenoise(const std::vector<std::string>& raw)
   timer.start("write");
   writeMesh(out_path, denoised);
   timer.stop();
+  const JsonObject report_json = reportIfAsked(args, mesh, denoised, denoised.numFaces(), quiet);
 
   if (args.has("json")) {
     JsonObject json;
@@ -108,6 +109,8 @@ int runDenoise(const std::vector<std::string>& raw)
       json.add("fidelity", parameters.fidelity).add("mean_correction", report.mean_correction);
     }
     json.add("repair_stages", repairStagesJson(report)).add("seconds", timer.json());
+    if (args.has("report"))
+      json.add("report", report_json);
     std::cout << json.str() << '\n';
   } else if (!quiet) {
     std::printf("denoised %zu vertices (%s) -> %s\n", mesh.numVertices(),

@@ -22,7 +22,7 @@ namespace {
 
 const char* kUsage =
     "pcl_patchdict fill-holes IN [--dict DICT.pdd | --no-patches] -o OUT [--max-hole-edges E] "
-    "[--max-hole-diameter D] [--absolute] [--hole-factor F] [--quad-length L] [--sparsity S] [--mu M] [--json]";
+    "[--max-hole-diameter D] [--absolute] [--hole-factor F] [--quad-length L] [--sparsity S] [--mu M] [--report DIR [--ref REF]] [--json]";
 
 }  // namespace
 
@@ -86,6 +86,7 @@ int runFillHoles(const std::vector<std::string>& raw)
   timer.start("write");
   writeMesh(out_path, filled);
   timer.stop();
+  const JsonObject report_json = reportIfAsked(args, mesh, filled, mesh.numFaces(), quiet);
 
   std::map<std::string, std::size_t> reasons;
   for (const auto& hole : report.holes)
@@ -126,6 +127,8 @@ int runFillHoles(const std::vector<std::string>& raw)
         .add("refinement", report.seconds_refinement)
         .add("fairing", report.seconds_fairing);
     json.add("seconds", seconds);
+    if (args.has("report"))
+      json.add("report", report_json);
     std::cout << json.str() << '\n';
     return 0;
   }

@@ -18,7 +18,7 @@ namespace {
 
 const char* const kUsage =
     "pcl_patchdict inpaint IN --missing IDX.txt [--dict DICT.pdd | --no-patches] -o OUT [--quad-length L] "
-    "[--quad-factor C] [--sparsity S] [--mu M] [--overlap K] [--atoms K] [--grid N] [--json]";
+    "[--quad-factor C] [--sparsity S] [--mu M] [--overlap K] [--atoms K] [--grid N] [--report DIR [--ref REF]] [--json]";
 
 }  // namespace
 
@@ -65,6 +65,7 @@ int runInpaint(const std::vector<std::string>& raw)
   timer.start("write");
   writeMesh(out_path, repaired);
   timer.stop();
+  const JsonObject report_json = reportIfAsked(args, mesh, repaired, repaired.numFaces(), quiet);
 
   const std::string dictionary_kind = dictionaryKind(args);
   if (report.used_patches)
@@ -81,6 +82,8 @@ int runInpaint(const std::vector<std::string>& raw)
       json.add("mean_correction", report.mean_correction);
     }
     json.add("repair_stages", repairStagesJson(report)).add("seconds", timer.json());
+    if (args.has("report"))
+      json.add("report", report_json);
     std::cout << json.str() << '\n';
   } else if (!quiet) {
     std::printf("recovered %zu missing vertices (%s) -> %s\n", report.missing_vertices,

@@ -1,5 +1,6 @@
 // Shared options and reporting of the repair subcommands (see repair_options.h).
 #include "repair_options.h"
+#include "repair_report.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -13,12 +14,14 @@ const std::set<std::string>& repairValueOptions()
   static const std::set<std::string> options = {
       "dict",         "quad-length",     "quad-factor", "sparsity",       "mu",        "overlap",
       "atoms",        "grid",            "patch-scale", "centre-sigma",   "observed-power",
-      "fit-scale",    "agreement-scale", "min-observed"};
+      "fit-scale",    "agreement-scale", "min-observed", "report", "ref"};
   return options;
 }
 
 void readRepairOptions(const Arguments& args, SparsePatchInpainter::Parameters& parameters)
 {
+  if (args.has("ref") && !args.has("report"))
+    throw UsageError("--ref is the reference of --report DIR");
   parameters.quad_length = args.getDouble("quad-length", 0.0, 0.0, 0.5);
   parameters.quad_length_factor = args.getDouble("quad-factor", parameters.quad_length_factor, 0.1, 1000.0);
   parameters.sparsity = static_cast<int>(args.getInt("sparsity", parameters.sparsity, 1, 1024));
@@ -42,6 +45,18 @@ PatchDictionary::ConstPtr loadRepairDictionary(const Arguments& args)
   if (!args.has("dict"))
     return nullptr;
   return PatchDictionary::load(args.get("dict"), static_cast<int>(args.getInt("grid", 0, 0, 256)));
+}
+
+JsonObject reportIfAsked(const Arguments& args, const TriangleMesh& before, const TriangleMesh& after,
+                         std::size_t first_new_face, bool quiet)
+{
+  if (!args.has("report"))
+    return JsonObject();
+  TriangleMesh reference;
+  if (args.has("ref"))
+    reference = loadMesh(args.get("ref"), true);
+  note(quiet, "report -> " + args.get("report"));
+  return writeRepairReport(args.get("report"), before, after, first_new_face, args.has("ref") ? &reference : nullptr);
 }
 
 std::string dictionaryKind(const Arguments& args)

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <random>
 
 using namespace pcl::patchdict;
@@ -231,6 +232,33 @@ TEST(PatchRepairModes, DenoiseCommandKeepsTheMeshReportsJsonAndFailsInOneLine)
   EXPECT_TRUE(test_support::endsWithOneErrorLine(result.err)) << result.err;
   result = test_support::runTool("denoise " + test_support::q(dir.file("noisy.ply")) + " -o " +
                                  test_support::q(dir.file("d.ply")) + " --noise 0.01 --noise-edges 0.5");
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_TRUE(test_support::isOneLine(result.err)) << result.err;
+}
+
+TEST(PatchRepairModes, ReportWritesPicturesAndAnErrorColouredMesh)
+{
+  test_support::TempDir dir;
+  const TriangleMesh clean = makeIcosphere(3);
+  writeMesh(dir.file("clean.ply"), clean);
+  writeMesh(dir.file("noisy.ply"), noisySphere(3, 0.3 * clean.meanEdgeLength(), 2));
+  auto result = test_support::runTool("denoise " + test_support::q(dir.file("noisy.ply")) + " -o " +
+                                      test_support::q(dir.file("out.ply")) + " --report " +
+                                      test_support::q(dir.file("report")) + " --ref " +
+                                      test_support::q(dir.file("clean.ply")) + " --json");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  for (const char* name : {"before.png", "after.png", "error.png", "error.ply"})
+    EXPECT_GT(std::filesystem::file_size(dir.file(std::string("report/") + name)), 100u) << name;
+  // The coloured PLY is a mesh of the output's size whose mean distance the JSON reports.
+  TriangleMesh coloured;
+  readMesh(dir.file("report/error.ply"), coloured);
+  EXPECT_EQ(coloured.numVertices(), clean.numVertices());
+  EXPECT_EQ(coloured.numFaces(), clean.numFaces());
+  const double mean = test_support::jsonNumber(result.out, "mean_vertex_distance");
+  EXPECT_GT(mean, 0.0);
+  EXPECT_LT(mean, 0.3 * clean.meanEdgeLength());  // denoised: below the noise's mean |N(0, 0.3 edge)|
+  result = test_support::runTool("denoise " + test_support::q(dir.file("noisy.ply")) + " -o " +
+                                 test_support::q(dir.file("out2.ply")) + " --ref " + test_support::q(dir.file("clean.ply")));
   EXPECT_EQ(result.exit_code, 2);
   EXPECT_TRUE(test_support::isOneLine(result.err)) << result.err;
 }

@@ -1,0 +1,124 @@
+// Repair reports (see repair_report.h): pictures by the software renderer (mesh_render.h: no
+// display or GPU needed, so it works on a headless machine), a coloured PLY written here.
+#include "repair_report.h"
+
+#include <pcl_patchdict/atomic_file.h>
+#include <pcl_patchdict/mesh_render.h>
+#include <pcl_patchdict/metrics.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+
+namespace pcl {
+namespace patchdict {
+namespace cli {
+
+namespace {
+
+using Colour = std::array<std::uint8_t, 3>;
+
+/** Blue (0) → white (½) → red (1). */
+Colour errorColour(double t)
+{
+  t = std::clamp(t, 0.0, 1.0);
+  const auto channel = [](double value) { return static_cast<std::uint8_t>(std::lround(255.0 * value)); };
+  if (t < 0.5)
+    return {channel(2.0 * t), channel(2.0 * t), 255};
+  return {255, channel(2.0 - 2.0 * t), channel(2.0 - 2.0 * t)};
+}
+
+void render(const std::string& path, const TriangleMesh& mesh, const std::vector<Colour>& face_colours)
+{
+  std::vector<std::vector<std::int32_t>> faces;
+  faces.reserve(mesh.numFaces());
+  for (const Face& f : mesh.faces)
+    faces.push_back({f[0], f[1], f[2]});
+  RenderOptions options;
+  options.width = options.height = 800;
+  options.draw_edges = mesh.numFaces() < 20000;
+  writePolygonsPNG(path, mesh.vertices, faces, face_colours, options);
+}
+
+/** Binary little-endian PLY with float32 positions and uchar colours per vertex. */
+void writeColouredPly(const std::string& path, const TriangleMesh& mesh, const std::vector<Colour>& colours)
+{
+  std::string bytes = "ply\nformat binary_little_endian 1.0\ncomment pcl_patchdict repair report: colour = "
+                      "distance to the reference\nelement vertex " +
+                      std::to_string(mesh.numVertices()) +
+                      "\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nproperty uchar "
+                      "green\nproperty uchar blue\nelement face " +
+                      std::to_string(mesh.numFaces()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+  const auto append = [&](const void* data, std::size_t size) {
+    bytes.append(static_cast<const char*>(data), size);
+  };
+  for (std::size_t v = 0; v < mesh.numVertices(); ++v) {
+    for (int c = 0; c < 3; ++c) {
+      const float value = static_cast<float>(mesh.vertices[v][c]);
+      append(&value, sizeof value);
+    }
+    append(colours[v].data(), 3);
+  }
+  for (const Face& f : mesh.faces) {
+    const std::uint8_t count = 3;
+    append(&count, 1);
+    for (std::int32_t index : f)
+      append(&index, sizeof index);
+  }
+  writeFileAtomically(path, bytes);
+}
+
+}  // namespace
+
+JsonObject writeRepairReport(const std::string& dir, const TriangleMesh& before, const TriangleMesh& after,
+                             std::size_t first_new_face, const TriangleMesh* reference, double scale)
+{
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec)
+    throw Error("cannot create the report folder '" + dir + "': " + ec.message());
+  const auto file = [&](const std::string& name) { return (fs::path(dir) / name).string(); };
+  JsonObject json;
+  json.add("folder", dir);
+  const Colour grey{200, 200, 200}, fill{235, 140, 40};
+  render(file("before.png"), before, std::vector<Colour>(before.numFaces(), grey));
+  std::vector<Colour> after_colours(after.numFaces(), grey);
+  for (std::size_t f = std::min(first_new_face, after.numFaces()); f < after.numFaces(); ++f)
+    after_colours[f] = fill;
+  render(file("after.png"), after, after_colours);
+  json.add("before_png", file("before.png")).add("after_png", file("after.png"));
+  if (!reference)
+    return json;
+  if (reference->faces.empty())
+    throw Error("the reference has no faces: the error colouring needs a surface");
+  const std::vector<double> distances = PointToMeshDistance(*reference).distances(after.vertices);
+  std::vector<double> sorted = distances;
+  const std::size_t at = sorted.empty() ? 0 : (sorted.size() - 1) * 99 / 100;
+  if (!sorted.empty())
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(at), sorted.end());
+  const double top = scale > 0.0 ? scale : (sorted.empty() ? 0.0 : sorted[at]);
+  std::vector<Colour> vertex_colours(after.numVertices());
+  double sum = 0.0;
+  for (std::size_t v = 0; v < distances.size(); ++v) {
+    vertex_colours[v] = errorColour(top > 0.0 ? distances[v] / top : 0.0);
+    sum += distances[v];
+  }
+  writeColouredPly(file("error.ply"), after, vertex_colours);
+  std::vector<Colour> face_colours(after.numFaces());
+  for (std::size_t f = 0; f < after.numFaces(); ++f) {
+    double mean = 0.0;
+    for (std::int32_t v : after.faces[f])
+      mean += distances[static_cast<std::size_t>(v)];
+    face_colours[f] = errorColour(top > 0.0 ? mean / 3.0 / top : 0.0);
+  }
+  render(file("error.png"), after, face_colours);
+  json.add("error_ply", file("error.ply")).add("error_png", file("error.png"));
+  json.add("error_scale", top).add("mean_vertex_distance", distances.empty() ? 0.0 : sum / distances.size());
+  return json;
+}
+
+}  // namespace cli
+}  // namespace patchdict
+}  // namespace pcl

@@ -1,0 +1,25 @@
+// --report DIR of the repair commands: before/after pictures and, with a reference (--ref), the
+// output coloured by its distance to the reference, as PLY and picture.
+#pragma once
+
+#include "cli.h"
+
+#include <pcl_patchdict/triangle_mesh.h>
+
+#include <string>
+
+namespace pcl {
+namespace patchdict {
+namespace cli {
+
+/** Writes DIR/before.png and DIR/after.png (faces from `first_new_face` on in orange: a fill),
+  * and with a reference DIR/error.ply (the output with per-vertex colours: distance to the
+  * reference surface, blue 0 → red at `scale`, 0 = the 99th percentile) and DIR/error.png.
+  * Both meshes and the reference in the same coordinates. Returns what it wrote and measured for
+  * --json. Throws Error when DIR cannot be made or a file cannot be written. */
+JsonObject writeRepairReport(const std::string& dir, const TriangleMesh& before, const TriangleMesh& after,
+                             std::size_t first_new_face, const TriangleMesh* reference, double scale = 0.0);
+
+}  // namespace cli
+}  // namespace patchdict
+}  // namespace pcl
