@@ -14,7 +14,7 @@ const std::set<std::string>& repairValueOptions()
   static const std::set<std::string> options = {
       "dict",         "quad-length",     "quad-factor", "sparsity",       "mu",        "overlap",
       "atoms",        "grid",            "patch-scale", "centre-sigma",   "observed-power",
-      "fit-scale",    "agreement-scale", "min-observed", "report", "ref"};
+      "fit-scale",    "agreement-scale", "min-observed", "report", "ref", "error-scale"};
   return options;
 }
 
@@ -56,7 +56,8 @@ JsonObject reportIfAsked(const Arguments& args, const TriangleMesh& before, cons
   if (args.has("ref"))
     reference = loadMesh(args.get("ref"), true);
   note(quiet, "report -> " + args.get("report"));
-  return writeRepairReport(args.get("report"), before, after, first_new_face, args.has("ref") ? &reference : nullptr);
+  return writeRepairReport(args.get("report"), before, after, first_new_face, args.has("ref") ? &reference : nullptr,
+                           args.getDouble("error-scale", 0.0, 0.0, 1e300));
 }
 
 std::string dictionaryKind(const Arguments& args)

@@ -19,7 +19,8 @@ const std::set<std::string>& repairValueOptions();
 void readRepairOptions(const Arguments& args, SparsePatchInpainter::Parameters& parameters);
 /** --dict D (checked against --grid), or null; UsageError with --no-patches. */
 PatchDictionary::ConstPtr loadRepairDictionary(const Arguments& args);
-/** With --report DIR: the pictures (and with --ref REF the error colouring) of repair_report.h;
+/** With --report DIR: the pictures (and with --ref REF the error colouring, red at --error-scale,
+  * default the 99th percentile) of repair_report.h;
   * an empty object otherwise. --ref without --report is a UsageError. */
 JsonObject reportIfAsked(const Arguments& args, const TriangleMesh& before, const TriangleMesh& after,
                          std::size_t first_new_face, bool quiet);
