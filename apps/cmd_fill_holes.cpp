@@ -22,14 +22,14 @@ namespace {
 
 const char* kUsage =
     "pcl_patchdict fill-holes IN [--dict DICT.pdd | --no-patches] -o OUT [--max-hole-edges E] "
-    "[--max-hole-diameter D] [--absolute] [--hole-factor F] [--quad-length L] [--sparsity S] [--mu M] [--report DIR [--ref REF]] [--json]";
+    "[--max-hole-diameter D] [--absolute] [--surface auto|smooth|relief] [--hole-factor F] [--quad-length L] [--sparsity S] [--mu M] [--report DIR [--ref REF]] [--json]";
 
 }  // namespace
 
 int runFillHoles(const std::vector<std::string>& raw)
 {
   auto value_options = commonValueOptions();
-  value_options.insert({"output", "max-hole-edges", "max-hole-diameter", "hole-factor"});
+  value_options.insert({"output", "max-hole-edges", "max-hole-diameter", "hole-factor", "surface"});
   value_options.insert(repairValueOptions().begin(), repairValueOptions().end());
   auto flag_options = commonFlagOptions();
   flag_options.insert({"no-patches", "absolute"});
@@ -53,6 +53,15 @@ int runFillHoles(const std::vector<std::string>& raw)
       SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes);
   readRepairOptions(args, parameters);
   parameters.hole_quad_factor = args.getDouble("hole-factor", parameters.hole_quad_factor, 0.0, 100.0);
+  const std::string surface = args.get("surface", "auto");
+  if (surface == "auto")
+    parameters.hole_settings = SparsePatchInpainter::Parameters::HoleSettings::Auto;
+  else if (surface == "smooth")
+    parameters.hole_settings = SparsePatchInpainter::Parameters::HoleSettings::Smooth;
+  else if (surface == "relief")
+    parameters.hole_settings = SparsePatchInpainter::Parameters::HoleSettings::Relief;
+  else
+    throw UsageError("--surface takes auto, smooth or relief, not '" + surface + "'");
 
   StageTimer timer(quiet);
   timer.start("load");
@@ -80,8 +89,14 @@ int runFillHoles(const std::vector<std::string>& raw)
   SparsePatchInpainter::Report repair;
   inpainter.process(filled, &repair);
   const HoleFilling::Report& report = repair.holes;
-  if (repair.used_patches)
+  if (repair.used_patches) {
+    char line[200];
+    std::snprintf(line, sizeof line, "  surface: %s (prediction gain %.2f over a biharmonic fill%s)",
+                  repair.relief ? "relief" : "smooth", repair.relief_gain,
+                  repair.relief_gain > 0.0 ? "" : ": not measured");
+    note(quiet, line);
     note(quiet, patchStageSummary(repair.patches));
+  }
 
   timer.start("write");
   writeMesh(out_path, filled);
@@ -117,6 +132,7 @@ int runFillHoles(const std::vector<std::string>& raw)
     }
     json.add("holes", holes);
     if (repair.used_patches) {
+      json.add("surface", repair.relief ? "relief" : "smooth").add("prediction_gain", repair.relief_gain);
       json.add("patch_stage", patchStageJson(repair.patches));
       json.add("sparsity", parameters.sparsity).add("mu", parameters.constraint_weight);
       json.add("mean_correction", repair.mean_correction);

@@ -14,7 +14,7 @@ const std::set<std::string>& repairValueOptions()
   static const std::set<std::string> options = {
       "dict",         "quad-length",     "quad-factor", "sparsity",       "mu",        "overlap",
       "atoms",        "grid",            "patch-scale", "centre-sigma",   "observed-power",
-      "fit-scale",    "agreement-scale", "min-observed", "report", "ref", "error-scale"};
+      "fit-scale",    "agreement-scale", "min-observed", "report", "ref", "error-scale", "smooth-iterations"};
   return options;
 }
 
@@ -27,6 +27,8 @@ void readRepairOptions(const Arguments& args, SparsePatchInpainter::Parameters& 
   parameters.sparsity = static_cast<int>(args.getInt("sparsity", parameters.sparsity, 1, 1024));
   parameters.constraint_weight = args.getDouble("mu", parameters.constraint_weight, 0.0, 1e12);
   parameters.overlap = static_cast<int>(args.getInt("overlap", parameters.overlap, 0, 8));
+  parameters.smoothing_iterations =
+      static_cast<int>(args.getInt("smooth-iterations", parameters.smoothing_iterations, 0, 10000));
   parameters.self_similar_atoms = static_cast<int>(args.getInt("atoms", parameters.self_similar_atoms, 1, 65536));
   parameters.grid_size = static_cast<int>(args.getInt("grid", 0, 0, 256));
   parameters.patch_scale = args.getDouble("patch-scale", parameters.patch_scale, 0.05, 20.0);
@@ -93,7 +95,8 @@ JsonObject patchStageJson(const PatchCorrectionReport& report)
 JsonObject repairStagesJson(const SparsePatchInpainter::Report& report)
 {
   JsonObject json;
-  json.add("base", report.seconds_base).add("patch_stage", report.seconds_patch_stage);
+  json.add("base", report.seconds_base).add("surface_check", report.seconds_check);
+  json.add("patch_stage", report.seconds_patch_stage);
   json.add("layout", report.patches.seconds_layout).add("patches", report.patches.seconds_patches);
   json.add("dictionary", report.patches.seconds_dictionary).add("coding", report.patches.seconds_coding);
   json.add("constraints", report.patches.seconds_constraints).add("solve", report.seconds_solve);

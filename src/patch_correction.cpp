@@ -87,6 +87,7 @@ PatchLayoutParameters layoutParameters(const PatchCorrectionParameters& p, doubl
   PatchLayoutParameters layout;
   layout.quad_length = quad_length;
   layout.overlap = p.overlap;
+  layout.smoothing_iterations = p.smoothing_iterations;
   layout.seed = p.seed;
   layout.num_threads = p.num_threads;
   return layout;
@@ -104,8 +105,8 @@ void PatchCorrection::checkParameters(const PatchCorrectionParameters& p)
     throw Error("the quad length factor must be > 0");
   if (!(p.patch_scale > 0.0) || !std::isfinite(p.patch_scale))
     throw Error("the patch scale must be > 0");
-  if (p.overlap < 0 || p.sparsity < 1)
-    throw Error("overlap must be ≥ 0 and sparsity ≥ 1");
+  if (p.overlap < 0 || p.sparsity < 1 || p.smoothing_iterations < 0)
+    throw Error("overlap and smoothing iterations must be ≥ 0, sparsity ≥ 1");
   if (!(p.error_per_bin >= 0.0) || !std::isfinite(p.error_per_bin))
     throw Error("the error target must be ≥ 0");
   for (double term : {p.centre_sigma, p.observed_power, p.fit_scale, p.agreement_scale})
@@ -144,14 +145,41 @@ PatchSet PatchCorrection::trainingPatches(const TriangleMesh& clean_mesh, const 
   return patches;
 }
 
-void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& constraints,
-                              PatchCorrectionReport* report) const
+PatchDictionary::ConstPtr PatchCorrection::learnSelfSimilar(const Eigen::MatrixXd& usable_heights,
+                                                         const ObservationMask& usable_mask,
+                                                         const PatchCorrectionParameters& p)
 {
-  PatchCorrectionReport local_report;
-  PatchCorrectionReport& r = report ? *report : local_report;
-  r = PatchCorrectionReport();
+  if (usable_heights.cols() == 0)
+    throw Error("no observed patch to learn a self-similar dictionary from");
+  const std::size_t usable_count = static_cast<std::size_t>(usable_heights.cols());
+  const Eigen::Index bins = usable_heights.rows();
+  auto learned = std::make_shared<PatchDictionary>();
+  learned->setNumAtoms(std::min<int>(p.self_similar_atoms, static_cast<int>(usable_count)));
+  learned->setSparsity(std::min(p.sparsity, learned->getNumAtoms()));
+  learned->setIterations(p.self_similar_iterations);
+  learned->setSeed(p.seed + 1);
+  if (p.self_similar_max_patches > 0 && usable_count > static_cast<std::size_t>(p.self_similar_max_patches)) {
+    // An evenly spaced subset: K-SVD time grows with the patch count, the atoms hardly do.
+    const Eigen::Index count = p.self_similar_max_patches;
+    Eigen::MatrixXd subset(bins, count);
+    ObservationMask subset_mask(bins, count);
+    for (Eigen::Index i = 0; i < count; ++i) {
+      const auto column = static_cast<Eigen::Index>(static_cast<double>(i) * static_cast<double>(usable_count) /
+                                                    static_cast<double>(count));
+      subset.col(i) = usable_heights.col(column);
+      subset_mask.col(i) = usable_mask.col(column);
+    }
+    learned->learn(subset, subset_mask);
+  } else {
+    learned->learn(usable_heights, usable_mask);
+  }
+  return learned;
+}
+
+void PatchCorrection::checkInput() const
+{
+  checkParameters(parameters_);
   const PatchCorrectionParameters& p = parameters_;
-  checkParameters(p);
   if (!estimate_ || estimate_->empty() || estimate_->faces.empty())
     throw Error("patch correction: no estimate mesh (with faces) given");
   const TriangleMesh& estimate = *estimate_;
@@ -171,10 +199,17 @@ void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& 
                   std::to_string(dictionary_->gridSize()) + " atoms, the patches are " + std::to_string(p.grid_size) +
                   "×" + std::to_string(p.grid_size));
   }
-  constraints.assign(targets_.size(), {});
+}
+
+std::vector<PatchSet> PatchCorrection::observedPatchesAtScales(const std::vector<double>& patch_scales,
+                                                               PatchCorrectionReport* report) const
+{
+  PatchCorrectionReport local_report;
+  PatchCorrectionReport& r = report ? *report : local_report;
+  checkInput();
+  const PatchCorrectionParameters& p = parameters_;
+  const TriangleMesh& estimate = *estimate_;
   r.mean_edge_length = estimate.meanEdgeLength();
-  if (targets_.empty())
-    return;
 
   // 1. Layout on the estimate.
   auto t = Clock::now();
@@ -201,19 +236,52 @@ void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& 
   if (observed.faces.empty())
     throw Error("no face is observed: there is no surface to fit patches to");
   const int grid = dictionary_ ? dictionary_->gridSize() : (p.grid_size > 0 ? p.grid_size : 16);
-  const double side = p.patch_scale * quad_length;
-  const double radius = side / std::sqrt(2.0);
-  r.patch_side = side;
   r.grid_size = grid;
-  HeightMapPatchExtractor extractor;
-  extractor.setSeeds(layout.seeds, layout.frames);
-  extractor.setInputMesh(observed);
-  extractor.setRadius(radius);
-  extractor.setGridSize(grid);
-  extractor.setNumberOfThreads(p.num_threads);
-  PatchSet patches;
-  extractor.compute(patches);
-  r.observed_fraction = patches.observedFraction();
+  std::vector<PatchSet> sets;
+  for (double scale : patch_scales) {
+    if (!(scale > 0.0) || !std::isfinite(scale))
+      throw Error("the patch scale must be > 0");
+    const double side = scale * quad_length;
+    HeightMapPatchExtractor extractor;
+    extractor.setSeeds(layout.seeds, layout.frames);
+    extractor.setInputMesh(observed);
+    extractor.setRadius(side / std::sqrt(2.0));
+    extractor.setGridSize(grid);
+    extractor.setNumberOfThreads(p.num_threads);
+    sets.emplace_back();
+    extractor.compute(sets.back());
+  }
+  if (!sets.empty()) {
+    r.patch_side = patch_scales.front() * quad_length;
+    r.observed_fraction = sets.front().observedFraction();
+  }
+  r.seconds_patches = secondsSince(t);
+  return sets;
+}
+
+PatchSet PatchCorrection::observedPatches(PatchCorrectionReport* report) const
+{
+  return std::move(observedPatchesAtScales({parameters_.patch_scale}, report).front());
+}
+
+void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& constraints,
+                              PatchCorrectionReport* report) const
+{
+  PatchCorrectionReport local_report;
+  PatchCorrectionReport& r = report ? *report : local_report;
+  r = PatchCorrectionReport();
+  checkInput();
+  const PatchCorrectionParameters& p = parameters_;
+  const TriangleMesh& estimate = *estimate_;
+  constraints.assign(targets_.size(), {});
+  r.mean_edge_length = estimate.meanEdgeLength();
+  if (targets_.empty())
+    return;
+  const PatchSet patches = observedPatches(&r);
+  auto t = Clock::now();
+  const int grid = patches.grid_size;
+  const double side = r.patch_side;
+  const double radius = side / std::sqrt(2.0);
   const Eigen::Index bins = static_cast<Eigen::Index>(grid) * grid;
   std::vector<std::int32_t> usable;
   std::vector<double> fraction(patches.numPatches(), 0.0);
@@ -230,7 +298,6 @@ void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& 
     usable_heights.col(static_cast<Eigen::Index>(u)) = patches.heights.col(usable[u]);
     usable_mask.col(static_cast<Eigen::Index>(u)) = patches.observed.col(usable[u]);
   }
-  r.seconds_patches = secondsSince(t);
   if (usable.empty())
     return;  // nothing observed near enough: no constraint
 
@@ -238,27 +305,7 @@ void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& 
   t = Clock::now();
   PatchDictionary::ConstPtr dictionary = dictionary_;
   if (!dictionary) {
-    auto learned = std::make_shared<PatchDictionary>();
-    learned->setNumAtoms(std::min<int>(p.self_similar_atoms, static_cast<int>(usable.size())));
-    learned->setSparsity(std::min(p.sparsity, learned->getNumAtoms()));
-    learned->setIterations(p.self_similar_iterations);
-    learned->setSeed(p.seed + 1);
-    if (p.self_similar_max_patches > 0 && usable.size() > static_cast<std::size_t>(p.self_similar_max_patches)) {
-      // An evenly spaced subset: K-SVD time grows with the patch count, the atoms hardly do.
-      const Eigen::Index count = p.self_similar_max_patches;
-      Eigen::MatrixXd subset(bins, count);
-      ObservationMask subset_mask(bins, count);
-      for (Eigen::Index i = 0; i < count; ++i) {
-        const auto column = static_cast<Eigen::Index>(static_cast<double>(i) * static_cast<double>(usable.size()) /
-                                                      static_cast<double>(count));
-        subset.col(i) = usable_heights.col(column);
-        subset_mask.col(i) = usable_mask.col(column);
-      }
-      learned->learn(subset, subset_mask);
-    } else {
-      learned->learn(usable_heights, usable_mask);
-    }
-    dictionary = learned;
+    dictionary = learnSelfSimilar(usable_heights, usable_mask, p);
     r.self_similar = true;
   }
   r.atoms = static_cast<int>(dictionary->atoms().cols());

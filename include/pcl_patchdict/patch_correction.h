@@ -21,6 +21,9 @@ struct PatchCorrectionParameters {
   double quad_length_factor = 3.0;
   double patch_scale = 1.0;  ///< patch side = patch_scale × L (radius = side / √2)
   int overlap = 1;           ///< k of the layout: 4k offset seeds per quad
+  /// Smoothing iterations of the layout's coarse shape (the paper's 30): fewer let the quad field,
+  /// and so the frames, follow a relief instead of the smooth base under it.
+  int smoothing_iterations = 30;
   int sparsity = 8;          ///< at most this many atoms per code
   /// ε: coding stops once the rms residual over the observed bins is ≤ ε (0: always `sparsity`
   /// atoms). Denoising sets it from the noise level.
@@ -95,6 +98,18 @@ public:
   void compute(std::vector<std::vector<PointToPlaneConstraint>>& constraints,
                PatchCorrectionReport* report = nullptr) const;
 
+  /** Steps 1–2 alone: the patches compute() samples (observed bins marked), for checks that
+    * must see the same patches. Throws Error as compute() does. */
+  PatchSet observedPatches(PatchCorrectionReport* report = nullptr) const;
+  /** The same on one layout, once per patch side = scale × L (probes of several patch sizes). */
+  std::vector<PatchSet> observedPatchesAtScales(const std::vector<double>& patch_scales,
+                                                PatchCorrectionReport* report = nullptr) const;
+
+  /** The self-similar dictionary compute() learns when none is given: masked K-SVD of (an evenly
+    * spaced subset of at most self_similar_max_patches of) the given patches. */
+  static PatchDictionary::ConstPtr learnSelfSimilar(const Eigen::MatrixXd& heights, const ObservationMask& mask,
+                                                    const PatchCorrectionParameters& parameters);
+
   /** L for a normalised mesh: the given quad length, or factor × mean edge length. */
   static double quadLength(const TriangleMesh& normalised_mesh, const PatchCorrectionParameters& parameters);
   /** Throws Error when a parameter is out of range. */
@@ -106,6 +121,8 @@ public:
                                   int grid_size);
 
 private:
+  void checkInput() const;
+
   const TriangleMesh* estimate_ = nullptr;
   std::vector<bool> observed_faces_;
   const TriangleMesh* observed_surface_ = nullptr;
