@@ -167,6 +167,11 @@ TEST(Cli, DemoRepairsTheBundledMeshWithAndWithoutPatches)
   EXPECT_LT(liepa, 0.2 * edge_1e3);
   EXPECT_NEAR(jsonNumber(result.out, "holes_patches_error") / liepa, 1.0, 0.05);
   EXPECT_LT(jsonNumber(result.out, "holes_liepa_new_vertices_error"), 0.2 * edge_1e3);
+  // The generated relief: the patches find the relief and copy it (measured 7.25 → 4.15 on the
+  // removed vertices, 4.28 → 0.60 on the new ones).
+  EXPECT_LT(jsonNumber(result.out, "relief_patches_error"), 0.8 * jsonNumber(result.out, "relief_liepa_error"));
+  EXPECT_LT(jsonNumber(result.out, "relief_patches_new_vertices_error"),
+            0.5 * jsonNumber(result.out, "relief_liepa_new_vertices_error"));
   const double noisy = jsonNumber(result.out, "noisy_error");
   EXPECT_NEAR(noisy / edge_1e3, 0.5, 0.03);  // σ = 0.5 × mean edge along the normals
   EXPECT_LT(jsonNumber(result.out, "denoise_taubin_error"), 0.6 * noisy);

@@ -34,7 +34,7 @@ TEST(PatchPredictionCheck, ARepeatingReliefIsPredictedFarBetterThanByABiharmonic
   ASSERT_GE(check.test_patches, 20u);
   EXPECT_GT(check.hidden_bins, 10u);
   RecordProperty("gain", std::to_string(check.gain));
-  EXPECT_GT(check.gain, 2.0) << check.dictionary_rms  // measured 3.40 << " vs " << check.biharmonic_rms;
+  EXPECT_GT(check.gain, 2.0) << check.dictionary_rms << " vs " << check.biharmonic_rms;  // measured 3.40
 }
 
 TEST(PatchPredictionCheck, WhiteNoiseIsNotPredictable)
@@ -43,7 +43,7 @@ TEST(PatchPredictionCheck, WhiteNoiseIsNotPredictable)
   const PatchPredictionCheck check = checkPatchPrediction(patches, 0.03, nullptr, PatchCorrectionParameters{});
   ASSERT_GE(check.test_patches, 20u);
   RecordProperty("gain", std::to_string(check.gain));
-  EXPECT_LT(check.gain, 1.2) << check.dictionary_rms  // measured 0.94 << " vs " << check.biharmonic_rms;
+  EXPECT_LT(check.gain, 1.2) << check.dictionary_rms << " vs " << check.biharmonic_rms;  // measured 0.94
 }
 
 TEST(PatchPredictionCheck, TooLittleEvidenceGivesNoVerdict)
