@@ -2,6 +2,7 @@
 #include <pcl_patchdict/mesh_damage.h>
 
 #include <pcl_patchdict/error.h>
+#include <pcl_patchdict/mesh_topology.h>
 #include <pcl_patchdict/vertex_normals.h>
 
 #include <algorithm>
@@ -28,12 +29,22 @@ HoledMesh punchHoles(const TriangleMesh& mesh, int count, double radius, std::ui
       if (in_face[v])
         used.push_back(static_cast<std::int32_t>(v));
   }
+  // A hole that reaches the mesh's rim is a bite out of the rim, not a hole: centres keep 2 radii
+  // from every boundary vertex.
+  std::vector<Eigen::Vector3d> rim;
+  for (const MeshEdge& e : computeEdgeFaceAdjacency(mesh).edges)
+    if (e.isBoundary()) {
+      rim.push_back(mesh.vertices[static_cast<std::size_t>(e.v0)]);
+      rim.push_back(mesh.vertices[static_cast<std::size_t>(e.v1)]);
+    }
   std::mt19937_64 rng(seed);
   std::shuffle(used.begin(), used.end(), rng);
   HoledMesh out;
   for (std::int32_t v : used) {
     const Eigen::Vector3d& p = mesh.vertices[static_cast<std::size_t>(v)];
     bool far = true;
+    for (const auto& r : rim)
+      far = far && (p - r).norm() >= 2.0 * radius;
     for (const auto& c : out.centres)
       far = far && (p - c).norm() >= 4.0 * radius;
     if (far)

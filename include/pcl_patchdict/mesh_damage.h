@@ -19,8 +19,8 @@ struct HoledMesh {
 };
 
 /** \brief Removes every face with a vertex within `radius` of one of `count` centres: vertices drawn
-  * at random (seeded), each at least 4 × radius from the others (fewer centres when the surface
-  * has no room). Unreferenced vertices are dropped; the kept ones keep their order. Throws Error
+  * at random (seeded), each at least 4 × radius from the others and 2 × radius from the mesh's
+  * boundary (fewer centres when the surface has no room). Unreferenced vertices are dropped; the kept ones keep their order. Throws Error
   * for a mesh without faces, count < 1 or radius ≤ 0. */
 HoledMesh punchHoles(const TriangleMesh& mesh, int count, double radius, std::uint64_t seed);
 
