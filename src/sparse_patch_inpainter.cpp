@@ -287,8 +287,11 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
       for (std::size_t i = 0; i < sets.size(); ++i) {
         // The probe hides a disc of the holes' radius (the loop's diameter d overstates it by the
         // ring of removed faces: measured 0.35 d ≈ the punched radius on the harness holes).
-        const PatchPredictionCheck check =
-            checkPatchPrediction(sets[i], p.relief_probe_radius * median_diameter, dictionary, probe);
+        // Capped at 0.3 × the patch side: a disc hiding nearly the whole patch says nothing about
+        // the surface (large holes: the question is whether it is a relief, not how big the hole is).
+        const double side = scales[i] * probe.quad_length;
+        const PatchPredictionCheck check = checkPatchPrediction(
+            sets[i], std::min(p.relief_probe_radius * median_diameter, 0.3 * side), dictionary, probe, 10);
         // A relief is where the dictionary predicts better by a margin that matters: the gain
         // alone would call a perfect sphere a relief (both errors near zero, their ratio large).
         const bool significant =
