@@ -22,7 +22,8 @@ struct Subcommand {
 const std::vector<std::pair<std::string, Subcommand>>& subcommands()
 {
   static const std::vector<std::pair<std::string, Subcommand>> table{
-      {"demo", {cli::runDemo, "demo [--json] [--seed X] [--png ATOMS.png]", "the main job on the bundled mesh"}},
+      {"demo", {cli::runDemo, "demo [--out DIR] [--seed X] [--no-pictures] [--json]",
+                "the main job: the bundled bunny and a generated relief damaged, repaired with and without patches"}},
       {"info", {cli::runInfo, "info IN [--json]", "statistics and hygiene report of a mesh or cloud"}},
       {"eval", {cli::runEval, "eval REF OUT [--vertices IDX.txt] [--samples N] [--absolute] [--json]",
                 "vertex RMSE, symmetric surface distance, Hausdorff and PSNR of OUT against REF"}},
@@ -42,11 +43,11 @@ const std::vector<std::pair<std::string, Subcommand>>& subcommands()
                        "surface -> patches -> surface round trip (identity, or through a dictionary), scored"}},
       {"compress", {{}, "compress IN --dict DICT.pdd -o OUT.pdc", "compress as quad mesh + sparse codes"}},
       {"decompress", {{}, "decompress IN.pdc --dict DICT.pdd -o OUT", "decode a .pdc file"}},
-      {"denoise", {cli::runDenoise, "denoise IN [--dict DICT.pdd | --self-similar | --no-patches] -o OUT [--noise S] [--json]",
+      {"denoise", {cli::runDenoise, "denoise IN [--dict DICT.pdd | --self-similar | --no-patches] -o OUT [--noise S] [--report DIR [--ref REF]] [--json]",
                    "denoise: Taubin base (discrepancy principle), corrected by a patch dictionary"}},
-      {"inpaint", {cli::runInpaint, "inpaint IN --missing IDX.txt [--dict DICT.pdd | --no-patches] -o OUT [--quad-length L] [--json]",
+      {"inpaint", {cli::runInpaint, "inpaint IN --missing IDX.txt [--dict DICT.pdd | --no-patches] -o OUT [--quad-length L] [--report DIR [--ref REF]] [--json]",
                    "recover missing vertices"}},
-      {"fill-holes", {cli::runFillHoles, "fill-holes IN [--dict DICT.pdd | --no-patches] -o OUT [--max-hole-edges E] [--max-hole-diameter D] [--absolute]",
+      {"fill-holes", {cli::runFillHoles, "fill-holes IN [--dict DICT.pdd | --no-patches] -o OUT [--surface auto|smooth|relief] [--max-hole-edges E] [--max-hole-diameter D] [--absolute] [--report DIR [--ref REF]] [--json]",
                       "fill holes: Liepa's triangulate-refine-fair, new vertices corrected by patches"}},
   };
   return table;
