@@ -3,6 +3,7 @@
 #include "repair_report.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <cstdio>
 
 namespace pcl {
@@ -22,6 +23,14 @@ void readRepairOptions(const Arguments& args, SparsePatchInpainter::Parameters& 
 {
   if (args.has("ref") && !args.has("report"))
     throw UsageError("--ref is the reference of --report DIR");
+  if (args.has("report")) {
+    // Made before any work: a report that cannot be written must fail the command before its
+    // output exists, not after.
+    std::error_code ec;
+    std::filesystem::create_directories(args.get("report"), ec);
+    if (ec)
+      throw Error("cannot create the report folder '" + args.get("report") + "': " + ec.message());
+  }
   parameters.quad_length = args.getDouble("quad-length", 0.0, 0.0, 0.5);
   parameters.quad_length_factor = args.getDouble("quad-factor", parameters.quad_length_factor, 0.1, 1000.0);
   parameters.sparsity = static_cast<int>(args.getInt("sparsity", parameters.sparsity, 1, 1024));

@@ -286,4 +286,11 @@ TEST(PatchRepairModes, ReportWritesPicturesAndAnErrorColouredMesh)
                                  test_support::q(dir.file("out2.ply")) + " --ref " + test_support::q(dir.file("clean.ply")));
   EXPECT_EQ(result.exit_code, 2);
   EXPECT_TRUE(test_support::isOneLine(result.err)) << result.err;
+  // A report folder that cannot be made fails the command before its output exists.
+  result = test_support::runTool("denoise " + test_support::q(dir.file("noisy.ply")) + " -o " +
+                                 test_support::q(dir.file("out3.ply")) + " --quiet --report " +
+                                 test_support::q(dir.file("clean.ply") + "/report"));
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_TRUE(test_support::endsWithOneErrorLine(result.err)) << result.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("out3.ply")));
 }
