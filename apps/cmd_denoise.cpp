@@ -44,10 +44,7 @@ int runDenoise(const std::vector<std::string>& raw)
   applyCommonOptions(args);
   const bool quiet = args.has("quiet") || args.has("json");
   const std::string in_path = args.positionals()[0], out_path = args.get("output");
-  refuseOverwritingInput(out_path, in_path);
-  if (formatFromPath(out_path) == MeshFormat::Unknown || formatFromPath(out_path) == MeshFormat::PCD ||
-      formatFromPath(out_path) == MeshFormat::STL)
-    throw Error("output '" + out_path + "' must be a mesh file that keeps vertex order (.ply, .obj, .off)");
+  checkRepairOutput(out_path, in_path, true);
   SparsePatchInpainter::Parameters parameters =
       SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Denoise);
   readRepairOptions(args, parameters);
@@ -59,9 +56,7 @@ int runDenoise(const std::vector<std::string>& raw)
 
   StageTimer timer(quiet);
   timer.start("load");
-  const TriangleMesh mesh = loadMesh(in_path, quiet);
-  if (mesh.faces.empty())
-    throw Error("'" + in_path + "' has no faces: denoise needs a triangle mesh (clouds: issue 'point-cloud workflows')");
+  const TriangleMesh mesh = loadRepairMesh(in_path, quiet, "denoise");
   const PatchDictionary::ConstPtr dictionary = loadRepairDictionary(args);
   if (args.has("noise-edges")) {
     // σ in mean edge lengths of the normalised input.

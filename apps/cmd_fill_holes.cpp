@@ -35,8 +35,6 @@ int runFillHoles(const std::vector<std::string>& raw)
   flag_options.insert({"no-patches", "absolute"});
   const Arguments args(raw, value_options, flag_options);
   args.expectPositionals(1, 1, kUsage);
-  if (args.has("dict") && args.has("no-patches"))
-    throw UsageError("--dict and --no-patches exclude each other");
   if (!args.has("output"))
     throw UsageError("usage: " + std::string(kUsage));
   applyCommonOptions(args);
@@ -45,9 +43,7 @@ int runFillHoles(const std::vector<std::string>& raw)
   const double max_diameter =
       args.getDouble("max-hole-diameter", std::numeric_limits<double>::infinity(), 0.0, 1e300);
   const std::string in_path = args.positionals()[0], out_path = args.get("output");
-  refuseOverwritingInput(out_path, in_path);
-  if (formatFromPath(out_path) == MeshFormat::Unknown || formatFromPath(out_path) == MeshFormat::PCD)
-    throw Error("output '" + out_path + "' must be a mesh file (.ply, .obj, .off, .stl)");
+  checkRepairOutput(out_path, in_path, false);
 
   SparsePatchInpainter::Parameters parameters =
       SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes);
@@ -65,9 +61,7 @@ int runFillHoles(const std::vector<std::string>& raw)
 
   StageTimer timer(quiet);
   timer.start("load");
-  const TriangleMesh mesh = loadMesh(in_path, quiet);
-  if (mesh.faces.empty())
-    throw Error("'" + in_path + "' has no faces: fill-holes needs a triangle mesh");
+  const TriangleMesh mesh = loadRepairMesh(in_path, quiet, "fill-holes");
   const PatchDictionary::ConstPtr dictionary = loadRepairDictionary(args);
 
   timer.start("fill");

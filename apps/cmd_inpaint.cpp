@@ -33,16 +33,12 @@ int runInpaint(const std::vector<std::string>& raw)
   args.expectPositionals(1, 1, kUsage);
   if (!args.has("output") || !args.has("missing"))
     throw UsageError("usage: " + std::string(kUsage));
-  if (args.has("dict") && args.has("no-patches"))
-    throw UsageError("--dict and --no-patches exclude each other");
   applyCommonOptions(args);
   const bool quiet = args.has("quiet") || args.has("json");
   const std::string in_path = args.positionals()[0], out_path = args.get("output");
-  refuseOverwritingInput(out_path, in_path);
-  if (formatFromPath(out_path) == MeshFormat::Unknown || formatFromPath(out_path) == MeshFormat::PCD ||
-      formatFromPath(out_path) == MeshFormat::STL)
-    throw Error("output '" + out_path + "' must be a mesh file that keeps vertex order (.ply, .obj, .off)");
-  SparsePatchInpainter::Parameters parameters;
+  checkRepairOutput(out_path, in_path, true);
+  SparsePatchInpainter::Parameters parameters =
+      SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::MissingVertices);
   readRepairOptions(args, parameters);
 
   StageTimer timer(quiet);

@@ -19,8 +19,28 @@ const std::set<std::string>& repairValueOptions()
   return options;
 }
 
+void checkRepairOutput(const std::string& out_path, const std::string& in_path, bool keeps_vertex_order)
+{
+  refuseOverwritingInput(out_path, in_path);
+  const MeshFormat format = formatFromPath(out_path);
+  if (keeps_vertex_order && (format == MeshFormat::Unknown || format == MeshFormat::PCD || format == MeshFormat::STL))
+    throw Error("output '" + out_path + "' must be a mesh file that keeps vertex order (.ply, .obj, .off)");
+  if (format == MeshFormat::Unknown || format == MeshFormat::PCD)
+    throw Error("output '" + out_path + "' must be a mesh file (.ply, .obj, .off, .stl)");
+}
+
+TriangleMesh loadRepairMesh(const std::string& path, bool quiet, const std::string& command)
+{
+  TriangleMesh mesh = loadMesh(path, quiet);
+  if (mesh.faces.empty())
+    throw Error("'" + path + "' has no faces: " + command + " needs a triangle mesh");
+  return mesh;
+}
+
 void readRepairOptions(const Arguments& args, SparsePatchInpainter::Parameters& parameters)
 {
+  if (args.has("dict") && args.has("no-patches"))
+    throw UsageError("--dict and --no-patches exclude each other");
   if (args.has("ref") && !args.has("report"))
     throw UsageError("--ref is the reference of --report DIR");
   if (args.has("report")) {
@@ -51,8 +71,6 @@ void readRepairOptions(const Arguments& args, SparsePatchInpainter::Parameters& 
 
 PatchDictionary::ConstPtr loadRepairDictionary(const Arguments& args)
 {
-  if (args.has("dict") && args.has("no-patches"))
-    throw UsageError("--dict and --no-patches exclude each other");
   if (!args.has("dict"))
     return nullptr;
   return PatchDictionary::load(args.get("dict"), static_cast<int>(args.getInt("grid", 0, 0, 256)));

@@ -15,9 +15,15 @@ namespace cli {
 
 /** Value options of the patch stage (--quad-length, --sparsity, --mu, ...). */
 const std::set<std::string>& repairValueOptions();
-/** Reads those options into `parameters` (whose values are the defaults). */
+/** Refuses an output that would overwrite the input or that is no mesh file; with
+  * keeps_vertex_order, also STL (which does not keep vertex order). */
+void checkRepairOutput(const std::string& out_path, const std::string& in_path, bool keeps_vertex_order);
+/** loadMesh, and an Error naming `command` when the file has no faces. */
+TriangleMesh loadRepairMesh(const std::string& path, bool quiet, const std::string& command);
+/** Reads those options into `parameters` (whose values are the defaults); checks that --dict and
+  * --no-patches, --ref without --report are UsageErrors, and makes the --report folder. */
 void readRepairOptions(const Arguments& args, SparsePatchInpainter::Parameters& parameters);
-/** --dict D (checked against --grid), or null; UsageError with --no-patches. */
+/** --dict D (checked against --grid), or null. */
 PatchDictionary::ConstPtr loadRepairDictionary(const Arguments& args);
 /** With --report DIR: the pictures (and with --ref REF the error colouring, red at --error-scale,
   * default the 99th percentile) of repair_report.h;

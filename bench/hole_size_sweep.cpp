@@ -57,9 +57,6 @@ int main(int argc, char** argv)
       const std::string name = std::filesystem::path(path).stem().string();
       for (double radius : radii) {
         const HoledMesh holed = punchHoles(truth, 6, radius, seed);
-        std::vector<Eigen::Vector3d> removed;
-        for (std::int32_t v : holed.removed)
-          removed.push_back(truth.vertices[static_cast<std::size_t>(v)]);
         double error[2] = {0.0, 0.0}, added_error[2] = {0.0, 0.0};
         SparsePatchInpainter::Report report;
         for (int patches = 0; patches < 2; ++patches) {
@@ -73,10 +70,9 @@ int main(int argc, char** argv)
           inpainter.setUsePatches(patches == 1);
           TriangleMesh out;
           inpainter.process(out, &report);
-          std::vector<Eigen::Vector3d> added(
-              out.vertices.begin() + static_cast<std::ptrdiff_t>(holed.mesh.numVertices()), out.vertices.end());
-          error[patches] = pointsToSurfaceDistance(removed, out).mean;
-          added_error[patches] = pointsToSurfaceDistance(added, truth).mean;
+          const HoleFillScore score = scoreHoleFill(truth, holed, out);
+          error[patches] = score.removed_to_output;
+          added_error[patches] = score.new_to_truth;
         }
         const double side = report.patches.patch_side;
         std::printf("%s,%.3f,%zu,%d,%.3f,%.4f,%.3f,%.6g,%.6g,%.6g,%.6g,%.4f\n", name.c_str(), radius,

@@ -67,12 +67,8 @@ Result holesCase(const TriangleMesh& truth, const HoledMesh& holed, bool patches
   const double start = now();
   inpainter.process(out);
   const double seconds = now() - start;
-  std::vector<Eigen::Vector3d> removed, added;
-  for (std::int32_t v : holed.removed)
-    removed.push_back(truth.vertices[static_cast<std::size_t>(v)]);
-  added.assign(out.vertices.begin() + static_cast<std::ptrdiff_t>(holed.mesh.numVertices()), out.vertices.end());
-  return {1e3 * pointsToSurfaceDistance(removed, out).mean, 1e3 * pointsToSurfaceDistance(added, truth).mean,
-          seconds};
+  const HoleFillScore score = scoreHoleFill(truth, holed, out);
+  return {1e3 * score.removed_to_output, 1e3 * score.new_to_truth, seconds};
 }
 
 Result denoiseCase(const TriangleMesh& truth, const TriangleMesh& noisy, bool patches)

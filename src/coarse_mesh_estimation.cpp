@@ -96,22 +96,8 @@ void CoarseMeshEstimation::smooth(const TriangleMesh& input, TriangleMesh& out, 
     if (!input.vertices[v].allFinite())
       throw Error("coarse mesh estimation: vertex " + std::to_string(v) + " is not finite");
 
-  // Neighbours each vertex is smoothed towards: its 1-ring inside the surface, its boundary
-  // neighbours on a boundary (so rims slide along themselves, not inwards).
-  const EdgeFaceAdjacency adjacency = computeEdgeFaceAdjacency(input);
   const std::size_t n = input.vertices.size();
-  std::vector<std::vector<std::int32_t>> ring(n), boundary_ring(n);
-  for (const MeshEdge& e : adjacency.edges) {
-    ring[static_cast<std::size_t>(e.v0)].push_back(e.v1);
-    ring[static_cast<std::size_t>(e.v1)].push_back(e.v0);
-    if (!e.isManifold() || e.isBoundary()) {
-      boundary_ring[static_cast<std::size_t>(e.v0)].push_back(e.v1);
-      boundary_ring[static_cast<std::size_t>(e.v1)].push_back(e.v0);
-    }
-  }
-  for (std::size_t v = 0; v < n; ++v)
-    if (!boundary_ring[v].empty())
-      ring[v] = boundary_ring[v];
+  const std::vector<std::vector<std::int32_t>> ring = computeSmoothingNeighbours(input);
 
   TriangleMesh mesh = input;
   std::vector<Eigen::Vector3d> next(n);

@@ -2,6 +2,7 @@
 #include <pcl_patchdict/mesh_damage.h>
 
 #include <pcl_patchdict/error.h>
+#include <pcl_patchdict/metrics.h>
 #include <pcl_patchdict/mesh_topology.h>
 #include <pcl_patchdict/vertex_normals.h>
 
@@ -82,6 +83,18 @@ HoledMesh punchHoles(const TriangleMesh& mesh, int count, double radius, std::ui
     out.mesh.faces.push_back(f);
   }
   return out;
+}
+
+HoleFillScore scoreHoleFill(const TriangleMesh& truth, const HoledMesh& holed, const TriangleMesh& filled)
+{
+  if (filled.numVertices() < holed.mesh.numVertices())
+    throw Error("hole score: the filled mesh has fewer vertices than the holed one");
+  std::vector<Eigen::Vector3d> removed;
+  for (std::int32_t v : holed.removed)
+    removed.push_back(truth.vertices[static_cast<std::size_t>(v)]);
+  const std::vector<Eigen::Vector3d> added(
+      filled.vertices.begin() + static_cast<std::ptrdiff_t>(holed.mesh.numVertices()), filled.vertices.end());
+  return {pointsToSurfaceDistance(removed, filled).mean, pointsToSurfaceDistance(added, truth).mean};
 }
 
 std::vector<int> pickMissingVertices(const TriangleMesh& mesh, double fraction, std::uint64_t seed)

@@ -70,6 +70,24 @@ EdgeFaceAdjacency computeEdgeFaceAdjacency(const TriangleMesh& mesh)
   return adjacency;
 }
 
+std::vector<std::vector<std::int32_t>> computeSmoothingNeighbours(const TriangleMesh& mesh)
+{
+  const std::size_t n = mesh.vertices.size();
+  std::vector<std::vector<std::int32_t>> ring(n), boundary_ring(n);
+  for (const MeshEdge& e : computeEdgeFaceAdjacency(mesh).edges) {
+    ring[static_cast<std::size_t>(e.v0)].push_back(e.v1);
+    ring[static_cast<std::size_t>(e.v1)].push_back(e.v0);
+    if (!e.isManifold() || e.isBoundary()) {
+      boundary_ring[static_cast<std::size_t>(e.v0)].push_back(e.v1);
+      boundary_ring[static_cast<std::size_t>(e.v1)].push_back(e.v0);
+    }
+  }
+  for (std::size_t v = 0; v < n; ++v)
+    if (!boundary_ring[v].empty())
+      ring[v] = std::move(boundary_ring[v]);
+  return ring;
+}
+
 std::vector<std::vector<std::int32_t>> computeVertexOneRings(const TriangleMesh& mesh)
 {
   std::vector<std::vector<std::int32_t>> rings(mesh.vertices.size());

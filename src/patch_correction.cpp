@@ -278,7 +278,6 @@ void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& 
   if (targets_.empty())
     return;
   const PatchSet patches = observedPatches(&r);
-  auto t = Clock::now();
   const int grid = patches.grid_size;
   const double side = r.patch_side;
   const double radius = side / std::sqrt(2.0);
@@ -302,7 +301,7 @@ void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& 
     return;  // nothing observed near enough: no constraint
 
   // Dictionary: given, or self-similar from the observed patches (masked K-SVD).
-  t = Clock::now();
+  auto t = Clock::now();
   PatchDictionary::ConstPtr dictionary = dictionary_;
   if (!dictionary) {
     dictionary = learnSelfSimilar(usable_heights, usable_mask, p);

@@ -58,17 +58,21 @@ void checkMesh(const TriangleMesh& mesh)
         throw Error("a face refers to vertex " + std::to_string(v) + ", the mesh has " + std::to_string(n));
 }
 
-/** Runs the patch stage on `estimate` for `targets`; one constraint list per target. */
+/** Runs the patch stage on `estimate` for `targets`; one constraint list per target. The data are
+  * the estimate's `observed_faces` (empty: all), or `observed_surface` when given. */
 std::vector<std::vector<PointToPlaneConstraint>> patchConstraints(const TriangleMesh& estimate,
                                                                   const std::vector<bool>& observed_faces,
                                                                   const std::vector<std::int32_t>& targets,
                                                                   const PatchDictionary::ConstPtr& dictionary,
                                                                   const PatchCorrectionParameters& parameters,
-                                                                  PatchCorrectionReport& report)
+                                                                  PatchCorrectionReport& report,
+                                                                  const TriangleMesh* observed_surface = nullptr)
 {
   PatchCorrection correction;
   correction.setEstimate(estimate);
   correction.setObservedFaces(observed_faces);
+  if (observed_surface)
+    correction.setObservedSurface(*observed_surface);
   correction.setTargets(targets);
   correction.setDictionary(dictionary);
   correction.setParameters(parameters);
@@ -380,16 +384,7 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
   r.used_patches = true;
   t = Clock::now();
   patch_parameters.error_per_bin = p.error_factor * r.noise_sigma;
-  std::vector<std::vector<PointToPlaneConstraint>> constraints;
-  {
-    PatchCorrection correction;
-    correction.setEstimate(work);
-    correction.setObservedSurface(noisy);
-    correction.setTargets(all);
-    correction.setDictionary(dictionary);
-    correction.setParameters(patch_parameters);
-    correction.compute(constraints, &r.patches);
-  }
+  const auto constraints = patchConstraints(work, {}, all, dictionary, patch_parameters, r.patches, &noisy);
   r.seconds_patch_stage = secondsSince(t);
 
   // Per vertex: min α·W·|δ|² + Σ w (n·(x0 + δ) − n·p)², x0 the base, W = Σ w (α relative to the

@@ -21,21 +21,10 @@ TaubinSmoother::TaubinSmoother(const TriangleMesh& mesh, double lambda, double m
   for (std::size_t v = 0; v < n; ++v)
     if (!mesh.vertices[v].allFinite())
       throw Error("Taubin smoothing: vertex " + std::to_string(v) + " is not finite");
-  // Interior vertices average their 1-ring; boundary (and non-manifold) vertices their boundary
-  // neighbours only, so rims slide along themselves instead of shrinking inwards.
-  const EdgeFaceAdjacency adjacency = computeEdgeFaceAdjacency(mesh);
-  std::vector<std::vector<std::int32_t>> ring(n), boundary_ring(n);
-  for (const MeshEdge& e : adjacency.edges) {
-    ring[static_cast<std::size_t>(e.v0)].push_back(e.v1);
-    ring[static_cast<std::size_t>(e.v1)].push_back(e.v0);
-    if (!e.isManifold() || e.isBoundary()) {
-      boundary_ring[static_cast<std::size_t>(e.v0)].push_back(e.v1);
-      boundary_ring[static_cast<std::size_t>(e.v1)].push_back(e.v0);
-    }
-  }
+  const std::vector<std::vector<std::int32_t>> ring = computeSmoothingNeighbours(mesh);
   offsets_.assign(n + 1, 0);
   for (std::size_t v = 0; v < n; ++v) {
-    const auto& chosen = boundary_ring[v].empty() ? ring[v] : boundary_ring[v];
+    const auto& chosen = ring[v];
     double total = 0.0;
     const std::size_t first = neighbours_.size();
     for (std::int32_t w : chosen) {

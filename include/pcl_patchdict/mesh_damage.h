@@ -4,6 +4,8 @@
 
 #include <pcl_patchdict/triangle_mesh.h>
 
+#include <Eigen/Core>
+
 #include <cstdint>
 #include <vector>
 
@@ -23,6 +25,16 @@ struct HoledMesh {
   * boundary (fewer centres when the surface has no room). Unreferenced vertices are dropped; the kept ones keep their order. Throws Error
   * for a mesh without faces, count < 1 or radius ≤ 0. */
 HoledMesh punchHoles(const TriangleMesh& mesh, int count, double radius, std::uint64_t seed);
+
+/** The protocol's two hole scores (DESIGN.md), in the truth's units. */
+struct HoleFillScore {
+  double removed_to_output = 0.0;  ///< mean distance of the removed true vertices to the filled surface
+  double new_to_truth = 0.0;       ///< mean distance of the fill's new vertices to the true surface
+};
+
+/** \brief Scores `filled` — the holed mesh's vertices first, then new ones (HoleFilling's order) —
+  * against the mesh the holes were punched in. */
+HoleFillScore scoreHoleFill(const TriangleMesh& truth, const HoledMesh& holed, const TriangleMesh& filled);
 
 /** \brief round(fraction × V) distinct vertex indices, increasing, drawn at random (seeded) among the
   * vertices used by a face. Throws Error unless 0 < fraction < 1. */

@@ -30,6 +30,11 @@ EdgeFaceAdjacency computeEdgeFaceAdjacency(const TriangleMesh& mesh);
 /** Sorted, unique neighbour vertices of every vertex (its 1-ring); isolated vertices get none. */
 std::vector<std::vector<std::int32_t>> computeVertexOneRings(const TriangleMesh& mesh);
 
+/** Neighbours a smoothing filter averages: the 1-ring for interior vertices, only the boundary (or
+  * non-manifold) edge neighbours for vertices on such edges, so rims slide along themselves instead
+  * of shrinking inwards. Order: edges sorted by (v0, v1). */
+std::vector<std::vector<std::int32_t>> computeSmoothingNeighbours(const TriangleMesh& mesh);
+
 /** Faces incident to every vertex, in increasing face order. */
 std::vector<std::vector<std::int32_t>> computeVertexFaces(const TriangleMesh& mesh);
 

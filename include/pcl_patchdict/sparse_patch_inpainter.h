@@ -57,7 +57,7 @@ public:
     /// predicts a hidden disc (relief_probe_radius × the median hole diameter d, at most 0.3 × the
     /// patch side) better than a biharmonic fill, for patch sides relief_probe_factors × d on one
     /// layout; gain ≥ relief_gain with a margin ≥ relief_min_improvement → the relief settings at
-    /// the best side. Measured gains: smooth scans 0.75–1.06, sole/knurl/tiles 1.5–7.5. Smooth
+    /// the best side. Measured gains: smooth scans 0.71–1.06, sole/knurl/tiles 1.49–7.5. Smooth
     /// keeps the parameters as given; Relief forces the relief settings.
     enum class HoleSettings { Auto, Smooth, Relief };
     HoleSettings hole_settings = HoleSettings::Auto;
