@@ -106,6 +106,8 @@ int runFillHoles(const std::vector<std::string>& args);
 int runInpaint(const std::vector<std::string>& args);
 int runDenoise(const std::vector<std::string>& args);
 int runQuads(const std::vector<std::string>& args);
+int runCompress(const std::vector<std::string>& args);
+int runDecompress(const std::vector<std::string>& args);
 
 }  // namespace cli
 }  // namespace patchdict

@@ -1,0 +1,514 @@
+// PatchCodec: quad mesh + sparse codes (Sarkar et al. 2017, section 5.2), encoder and decoder.
+#include <pcl_patchdict/patch_codec.h>
+
+#include <pcl_patchdict/atomic_file.h>
+#include <pcl_patchdict/coarse_mesh_estimation.h>
+#include <pcl_patchdict/error.h>
+#include <pcl_patchdict/height_map_patch_extractor.h>
+#include <pcl_patchdict/metrics.h>
+#include <pcl_patchdict/normalization.h>
+#include <pcl_patchdict/patch_mesh_reconstruction.h>
+#include <pcl_patchdict/quad_frame_estimation.h>
+#include <pcl_patchdict/quad_remesher.h>
+#include <pcl_patchdict/quad_subdivision.h>
+#include <pcl_patchdict/reference_frame.h>
+
+#include "pdc_format.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace pcl {
+namespace patchdict {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+double gridScale(std::uint32_t bits) { return std::ldexp(1.0, static_cast<int>(bits)) - 1.0; }
+
+/** The quad mesh both sides work with: dequantised positions (unit cube), the stored faces, and
+  * vertex normals from the faces' Newell vectors (area-weighted), so the frames' Z follows the
+  * faces' winding without normals being stored. */
+QuadMesh rebuildQuadMesh(const detail::PdcContent& c)
+{
+  QuadMesh quads;
+  const double scale = gridScale(c.position_bits);
+  quads.vertices.reserve(c.quad_positions.size());
+  for (const auto& q : c.quad_positions)
+    quads.vertices.emplace_back(q[0] / scale - 0.5, q[1] / scale - 0.5, q[2] / scale - 0.5);
+  quads.faces = c.quad_faces;
+  std::vector<Eigen::Vector3d> sum(quads.vertices.size(), Eigen::Vector3d::Zero());
+  for (const auto& face : quads.faces) {
+    Eigen::Vector3d newell = Eigen::Vector3d::Zero();
+    for (std::size_t k = 0; k < face.size(); ++k) {
+      const Eigen::Vector3d& a = quads.vertices[static_cast<std::size_t>(face[k])];
+      const Eigen::Vector3d& b = quads.vertices[static_cast<std::size_t>(face[(k + 1) % face.size()])];
+      newell += a.cross(b);
+    }
+    for (const std::int32_t v : face)
+      sum[static_cast<std::size_t>(v)] += newell;
+  }
+  quads.normals.resize(sum.size());
+  for (std::size_t v = 0; v < sum.size(); ++v) {
+    const double norm = sum[v].norm();
+    quads.normals[v] = norm > 0 ? Eigen::Vector3d(sum[v] / norm) : Eigen::Vector3d::UnitZ();
+  }
+  return quads;
+}
+
+/** Seeds and frames of the patches: QuadFrameEstimation on the rebuilt quad mesh. */
+void quadSeeds(const QuadMesh& quads, std::uint32_t overlap, std::vector<Eigen::Vector3d>& seeds,
+               std::vector<Eigen::Matrix3d>& rotations)
+{
+  QuadFrameEstimation estimation;
+  estimation.setInputQuadMesh(quads);
+  estimation.setOverlap(static_cast<int>(overlap));
+  pcl::PointCloud<pcl::ReferenceFrame> frames;
+  estimation.compute(seeds, frames);
+  rotations.clear();
+  rotations.reserve(frames.size());
+  for (const auto& frame : frames)
+    rotations.push_back(fromReferenceFrame(frame));
+}
+
+/** Seeds moved along their frames' Z by the stored offsets (position-grid units). */
+void applySeedOffsets(const detail::PdcContent& c, PatchSet& patches)
+{
+  const double scale = gridScale(c.position_bits);
+  for (std::size_t q = 0; q < patches.seeds.size(); ++q)
+    patches.seeds[q] += patches.rotations[q].row(2).transpose() * (static_cast<double>(c.offsets[q]) / scale);
+}
+
+/** Vertices of the target that lie in some patch's square but only over bins the encoder marked
+  * unobserved: there is no surface there (a quad spanning an open boundary or a hole of the
+  * input). Vertices no square reaches are not among them (the reconstruction fills them from
+  * their ring). */
+std::vector<char> unseenVertices(const PatchMeshReconstruction& reconstruction, const PatchSet& patches,
+                                 const std::vector<std::int32_t>& estimates)
+{
+  std::vector<char> unseen(estimates.size(), 0);
+  const int grid = patches.grid_size;
+  const double side = patches.side();
+  for (const VertexPatchSample& sample : reconstruction.computeMapping()) {
+    if (estimates[static_cast<std::size_t>(sample.vertex)] > 0)
+      continue;
+    const int i = std::clamp(static_cast<int>(std::floor((sample.x / side + 0.5) * grid)), 0, grid - 1);
+    const int j = std::clamp(static_cast<int>(std::floor((sample.y / side + 0.5) * grid)), 0, grid - 1);
+    unseen[static_cast<std::size_t>(sample.vertex)] = patches.observed(j * grid + i, sample.patch) ? 0 : 1;
+  }
+  return unseen;
+}
+
+/** Drops the faces that reach an unseen vertex, then the vertices no face uses. */
+void trimUnseen(const std::vector<char>& unseen, TriangleMesh& mesh)
+{
+  std::vector<Face> kept;
+  kept.reserve(mesh.faces.size());
+  for (const Face& f : mesh.faces)
+    if (!unseen[static_cast<std::size_t>(f[0])] && !unseen[static_cast<std::size_t>(f[1])] &&
+        !unseen[static_cast<std::size_t>(f[2])])
+      kept.push_back(f);
+  std::vector<std::int32_t> map(mesh.vertices.size(), -1);
+  std::vector<Eigen::Vector3d> vertices;
+  for (Face& f : kept)
+    for (auto& v : f) {
+      auto& slot = map[static_cast<std::size_t>(v)];
+      if (slot < 0) {
+        slot = static_cast<std::int32_t>(vertices.size());
+        vertices.push_back(mesh.vertices[static_cast<std::size_t>(v)]);
+      }
+      v = slot;
+    }
+  mesh.vertices = std::move(vertices);
+  mesh.faces = std::move(kept);
+}
+
+/** The quad mesh as triangles (fans from each face's first corner): where vertex places live. */
+TriangleMesh fanTriangles(const QuadMesh& quads)
+{
+  TriangleMesh mesh;
+  mesh.vertices = quads.vertices;
+  for (const auto& face : quads.faces)
+    for (std::size_t k = 1; k + 1 < face.size(); ++k)
+      mesh.faces.push_back({face[0], face[k], face[k + 1]});
+  return mesh;
+}
+
+/** Renumbers the vertices in order of first use by the faces (what the face coding expects) and
+  * drops vertices no face uses. */
+void renumberByFirstUse(QuadMesh& quads)
+{
+  std::vector<std::int32_t> map(quads.vertices.size(), -1);
+  std::vector<Eigen::Vector3d> vertices;
+  for (auto& face : quads.faces)
+    for (auto& v : face) {
+      auto& slot = map[static_cast<std::size_t>(v)];
+      if (slot < 0) {
+        slot = static_cast<std::int32_t>(vertices.size());
+        vertices.push_back(quads.vertices[static_cast<std::size_t>(v)]);
+      }
+      v = slot;
+    }
+  quads.vertices = std::move(vertices);
+  quads.normals.clear();
+}
+
+std::size_t maskedPatches(const ObservationMask& observed)
+{
+  std::size_t count = 0;
+  for (Eigen::Index p = 0; p < observed.cols(); ++p)
+    count += observed.col(p).all() ? 0 : 1;
+  return count;
+}
+
+}  // namespace
+
+std::size_t PatchCodec::Report::patchEntities() const { return nonzeros + quad_vertices + 4 * quad_faces; }
+
+std::size_t meshEntities(const TriangleMesh& mesh) { return 3 * mesh.faces.size() + mesh.vertices.size(); }
+
+void PatchCodec::requireDictionary() const
+{
+  if (!dictionary_ || dictionary_->empty())
+    throw Error("the codec needs a patch dictionary (the one the receiver holds)");
+}
+
+std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
+{
+  requireDictionary();
+  const PatchCodecParameters& p = parameters_;
+  const int grid = dictionary_->gridSize();
+  const int atoms = static_cast<int>(dictionary_->atoms().cols());
+  if (!(p.quad_length >= 1e-3 && p.quad_length <= 1.0))
+    throw Error("codec: the quad length must be in [0.001, 1] (unit-cube units)");
+  if (!(p.patch_scale >= 0.5 && p.patch_scale <= 4.0))
+    throw Error("codec: the patch scale (patch side / quad length) must be in [0.5, 4]");
+  if (p.overlap < 0 || p.overlap > 16)
+    throw Error("codec: the overlap must be in [0, 16]");
+  if (p.coefficients < 1 || p.coefficients > atoms)
+    throw Error("codec: coefficients per patch must be in [1, " + std::to_string(atoms) + "] (the dictionary's atoms)");
+  if (p.coefficient_bits < 2 || p.coefficient_bits > 16)
+    throw Error("codec: coefficient bits must be in [2, 16]");
+  if (p.position_bits < 4 || p.position_bits > 24)
+    throw Error("codec: position bits must be in [4, 24]");
+  if (p.subdivision < 0 || p.subdivision > 256)
+    throw Error("codec: subdivision must be in [0, 256] (0: grid size / 2)");
+  if (p.keep_connectivity && (p.location_bits < 4 || p.location_bits > 16))
+    throw Error("codec: location bits must be in [4, 16]");
+  if (mesh.faces.empty())
+    throw Error("codec: the input has no faces (compression works on meshes)");
+  Report local;
+  auto t = Clock::now();
+
+  TriangleMesh surface = mesh;
+  const UnitCubeNormalization normalization = UnitCubeNormalization::fromMesh(surface);
+  normalization.apply(surface);
+
+  CoarseMeshEstimation coarse;
+  coarse.setIterations(p.smoothing_iterations);
+  coarse.setMethod(CoarseMeshEstimation::Method::Laplacian);
+  coarse.setInputMesh(surface);
+  TriangleMesh coarse_mesh;
+  coarse.process(coarse_mesh);
+  QuadRemesher remesher;
+  remesher.setInputMesh(coarse_mesh);
+  remesher.setQuadLength(p.quad_length);
+  remesher.setSeed(p.seed);
+  remesher.setNumberOfThreads(p.num_threads);
+  QuadMesh quads;
+  remesher.process(quads);
+  if (quads.faces.size() < 6) {
+    std::ostringstream message;
+    message << "codec: the quad mesh has " << quads.faces.size() << " faces (fewer than 6): the quad length "
+            << p.quad_length << " is too large for this shape";
+    throw Error(message.str());
+  }
+  renumberByFirstUse(quads);
+  const PointToMeshDistance to_surface(surface);
+  if (p.project_quads)
+    for (auto& v : quads.vertices)
+      v = to_surface.query(v).closest_point;
+
+  detail::PdcContent c;
+  c.fingerprint = dictionary_->fingerprint();
+  c.grid_size = static_cast<std::uint32_t>(grid);
+  c.num_atoms = static_cast<std::uint32_t>(atoms);
+  c.remove_mean = dictionary_->getRemoveMean();
+  c.keep_connectivity = p.keep_connectivity;
+  c.quad_length = p.quad_length;
+  c.radius = p.patch_scale * p.quad_length / std::sqrt(2.0);
+  c.normalization = normalization;
+  c.overlap = static_cast<std::uint32_t>(p.overlap);
+  c.coefficients = static_cast<std::uint32_t>(p.coefficients);
+  c.coefficient_bits = static_cast<std::uint32_t>(p.coefficient_bits);
+  c.position_bits = static_cast<std::uint32_t>(p.position_bits);
+  c.subdivision = static_cast<std::uint32_t>(p.subdivision > 0 ? p.subdivision : std::max(1, grid / 2));
+  c.location_bits = p.keep_connectivity ? static_cast<std::uint32_t>(p.location_bits) : 0;
+  const double position_scale = gridScale(c.position_bits);
+  for (const auto& v : quads.vertices) {
+    std::array<std::uint32_t, 3> q;
+    for (int k = 0; k < 3; ++k)
+      q[k] = static_cast<std::uint32_t>(std::clamp(std::lround((v[k] + 0.5) * position_scale), 0L,
+                                                   static_cast<long>(position_scale)));
+    c.quad_positions.push_back(q);
+  }
+  c.quad_faces = quads.faces;
+  // From here on, the encoder sees exactly what the decoder will.
+  quads = rebuildQuadMesh(c);
+  PatchSet patches;
+  patches.grid_size = grid;
+  patches.radius = c.radius;
+  quadSeeds(quads, c.overlap, patches.seeds, patches.rotations);
+  if (patches.seeds.empty())
+    throw Error("codec: the quad mesh has no usable face");
+  local.seconds_layout = since(t);
+
+  t = Clock::now();
+  pcl::PointCloud<pcl::ReferenceFrame> frames;
+  for (const auto& r : patches.rotations)
+    frames.push_back(toReferenceFrame(r));
+  HeightMapPatchExtractor extractor;
+  extractor.setInputMesh(surface);
+  extractor.setRadius(c.radius);
+  extractor.setGridSize(grid);
+  extractor.setNumberOfThreads(p.num_threads);
+  PatchSet sampled;
+  // A quad's centre lies off a curved surface (by its sagitta); patches learned around surface
+  // points code best around surface points: each seed moves along Z to the surface height at the
+  // grid's centre (one small integer per patch), then the patches are sampled there.
+  extractor.setSeeds(patches.seeds, frames);
+  extractor.compute(sampled);
+  c.offsets.resize(patches.seeds.size());
+  for (std::size_t q = 0; q < patches.seeds.size(); ++q) {
+    const int lo = (grid - 1) / 2, hi = grid / 2;
+    double sum = 0.0;
+    int count = 0;
+    for (const int j : {lo, hi})
+      for (const int i : {lo, hi})
+        if (sampled.observed(j * grid + i, static_cast<Eigen::Index>(q))) {
+          sum += sampled.heights(j * grid + i, static_cast<Eigen::Index>(q));
+          ++count;
+        }
+    c.offsets[q] = count ? std::llround(sum / count * position_scale) : 0;
+  }
+  applySeedOffsets(c, patches);
+  extractor.setSeeds(patches.seeds, frames);
+  extractor.compute(sampled);
+  local.seconds_patches = since(t);
+
+  t = Clock::now();
+  const PatchCodes codes = dictionary_->encodeMasked(sampled.heights, sampled.observed, {p.coefficients, 0.0});
+  // The quantiser's range is the 99th percentile of |coefficient|, not the largest: one patch over
+  // a sharp crease must not coarsen every other patch's step. Larger values still fit (the byte
+  // planes hold 16 bits), at a step no finer than the largest value allows.
+  std::vector<double> magnitudes;
+  for (Eigen::Index k = 0; k < codes.coefficients.outerSize(); ++k)
+    for (SparseCodes::InnerIterator it(codes.coefficients, k); it; ++it)
+      magnitudes.push_back(std::abs(it.value()));
+  double range = 0.0, largest = 0.0;
+  if (!magnitudes.empty()) {
+    largest = *std::max_element(magnitudes.begin(), magnitudes.end());
+    const auto at = magnitudes.begin() + static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(magnitudes.size() - 1));
+    std::nth_element(magnitudes.begin(), at, magnitudes.end());
+    range = *at;
+  }
+  const double levels = std::ldexp(1.0, p.coefficient_bits - 1) - 1.0;
+  c.coefficient_step = range > 0 ? std::max(range / levels, largest / 32767.0) : 1.0;
+  c.mean_step = c.coefficient_step / grid;  // a mean offset over N² bins weighs N × its value
+  const std::size_t num_patches = sampled.numPatches();
+  c.atoms.resize(num_patches);
+  c.values.resize(num_patches);
+  for (std::size_t q = 0; q < num_patches; ++q) {
+    std::vector<std::pair<std::uint32_t, std::int32_t>> entries;
+    for (SparseCodes::InnerIterator it(codes.coefficients, static_cast<Eigen::Index>(q)); it; ++it) {
+      const auto value = static_cast<std::int32_t>(std::lround(it.value() / c.coefficient_step));
+      if (value != 0)
+        entries.emplace_back(static_cast<std::uint32_t>(it.row()), value);
+    }
+    std::sort(entries.begin(), entries.end());
+    for (const auto& [atom, value] : entries) {
+      c.atoms[q].push_back(atom);
+      c.values[q].push_back(value);
+    }
+    if (c.remove_mean)
+      c.means.push_back(std::llround(codes.means[static_cast<Eigen::Index>(q)] / c.mean_step));
+  }
+  if (!sampled.observed.all())
+    c.observed = sampled.observed;
+
+  if (p.keep_connectivity) {
+    const TriangleMesh fan = fanTriangles(quads);
+    const PointToMeshDistance to_quads(fan);
+    const double location_scale = gridScale(c.location_bits);
+    c.faces = surface.faces;
+    c.places.resize(surface.vertices.size());
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::ptrdiff_t v = 0; v < static_cast<std::ptrdiff_t>(surface.vertices.size()); ++v) {
+      const auto hit = to_quads.query(surface.vertices[static_cast<std::size_t>(v)]);
+      const Face& f = fan.faces[static_cast<std::size_t>(hit.face)];
+      const Eigen::Vector3d a = fan.vertices[static_cast<std::size_t>(f[0])];
+      const Eigen::Vector3d e1 = fan.vertices[static_cast<std::size_t>(f[1])] - a;
+      const Eigen::Vector3d e2 = fan.vertices[static_cast<std::size_t>(f[2])] - a;
+      // Barycentrics of the closest point (least squares: robust for thin triangles).
+      Eigen::Matrix<double, 3, 2> basis;
+      basis << e1, e2;
+      Eigen::Vector2d w = basis.colPivHouseholderQr().solve(hit.closest_point - a);
+      w = w.cwiseMax(0.0);
+      if (w.sum() > 1.0)
+        w /= w.sum();
+      detail::VertexPlace& place = c.places[static_cast<std::size_t>(v)];
+      place.triangle = hit.face;
+      place.u = static_cast<std::uint32_t>(std::lround(w[0] * location_scale));
+      place.v = static_cast<std::uint32_t>(std::lround(w[1] * location_scale));
+      if (place.u + place.v > location_scale)
+        place.v = static_cast<std::uint32_t>(location_scale) - place.u;
+    }
+  }
+
+  detail::PdcSizes sizes;
+  std::string bytes = detail::writePdc(c, &sizes);
+  local.seconds_coding = since(t);
+  if (report) {
+    // The error the receiver will see in the patches: quantised codes against the sampled heights.
+    PatchCodes quantised;
+    quantised.coefficients.resize(atoms, static_cast<Eigen::Index>(num_patches));
+    std::vector<Eigen::Triplet<double, std::int64_t>> entries;
+    for (std::size_t q = 0; q < num_patches; ++q)
+      for (std::size_t i = 0; i < c.atoms[q].size(); ++i)
+        entries.emplace_back(c.atoms[q][i], static_cast<std::int64_t>(q), c.values[q][i] * c.coefficient_step);
+    quantised.coefficients.setFromTriplets(entries.begin(), entries.end());
+    quantised.means = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(num_patches));
+    for (std::size_t q = 0; q < c.means.size(); ++q)
+      quantised.means[static_cast<Eigen::Index>(q)] = static_cast<double>(c.means[q]) * c.mean_step;
+    const Eigen::MatrixXd decoded = dictionary_->decode(quantised);
+    double squared = 0.0;
+    std::size_t count = 0;
+    for (Eigen::Index i = 0; i < decoded.size(); ++i)
+      if (sampled.observed.data()[i]) {
+        squared += std::pow(decoded.data()[i] - sampled.heights.data()[i], 2);
+        ++count;
+      }
+    local.patch_rmse = count ? std::sqrt(squared / static_cast<double>(count)) : 0.0;
+    local.header_bytes = sizes.header + 8;  // + checksum
+    local.quad_vertex_bytes = sizes.quad_vertices;
+    local.quad_face_bytes = sizes.quad_faces;
+    local.offset_bytes = sizes.offsets;
+    local.atom_bytes = sizes.atoms;
+    local.coefficient_bytes = sizes.coefficients;
+    local.mean_bytes = sizes.means;
+    local.mask_bytes = sizes.masks;
+    local.connectivity_bytes = sizes.connectivity;
+    local.total_bytes = sizes.total;
+    local.quad_vertices = c.quad_positions.size();
+    local.quad_faces = c.quad_faces.size();
+    local.patches = num_patches;
+    local.nonzeros = entries.size();
+    local.masked_patches = maskedPatches(c.observed);
+    local.coefficient_step = c.coefficient_step;
+    *report = local;
+  }
+  return bytes;
+}
+
+void PatchCodec::decode(const std::string& bytes, TriangleMesh& out, Report* report, const std::string& what) const
+{
+  requireDictionary();
+  auto t = Clock::now();
+  const detail::PdcContent c = detail::readPdc(bytes, what);
+  if (c.fingerprint != dictionary_->fingerprint() || static_cast<int>(c.grid_size) != dictionary_->gridSize() ||
+      static_cast<Eigen::Index>(c.num_atoms) != dictionary_->atoms().cols()) {
+    std::ostringstream message;
+    message << what << "encoded with another dictionary (" << c.num_atoms << " atoms of " << c.grid_size << "×"
+            << c.grid_size << ", fingerprint " << std::hex << c.fingerprint << "; given: "
+            << std::dec << dictionary_->atoms().cols() << " atoms of " << dictionary_->gridSize() << "×"
+            << dictionary_->gridSize() << ", fingerprint " << std::hex << dictionary_->fingerprint() << ")";
+    throw Error(message.str());
+  }
+  const QuadMesh quads = rebuildQuadMesh(c);
+  PatchSet patches;
+  patches.grid_size = static_cast<int>(c.grid_size);
+  patches.radius = c.radius;
+  quadSeeds(quads, c.overlap, patches.seeds, patches.rotations);
+  const std::size_t num_patches = c.atoms.size();
+  if (patches.seeds.size() != num_patches)
+    throw Error(what + "the quad mesh gives " + std::to_string(patches.seeds.size()) + " patches, the file codes " +
+                std::to_string(num_patches) + " (the file is corrupted)");
+  applySeedOffsets(c, patches);
+  Report local;
+  local.seconds_layout = since(t);
+
+  t = Clock::now();
+  PatchCodes codes;
+  codes.coefficients.resize(static_cast<Eigen::Index>(c.num_atoms), static_cast<Eigen::Index>(num_patches));
+  std::vector<Eigen::Triplet<double, std::int64_t>> entries;
+  for (std::size_t q = 0; q < num_patches; ++q)
+    for (std::size_t i = 0; i < c.atoms[q].size(); ++i)
+      entries.emplace_back(c.atoms[q][i], static_cast<std::int64_t>(q), c.values[q][i] * c.coefficient_step);
+  codes.coefficients.setFromTriplets(entries.begin(), entries.end());
+  codes.means = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(num_patches));
+  for (std::size_t q = 0; q < c.means.size(); ++q)
+    codes.means[static_cast<Eigen::Index>(q)] = static_cast<double>(c.means[q]) * c.mean_step;
+  patches.heights = dictionary_->decode(codes);
+  patches.observed = c.observed.size() ? c.observed
+                                       : ObservationMask::Constant(patches.heights.rows(), patches.heights.cols(), true);
+  patches.source.assign(num_patches, 0);
+  local.seconds_coding = since(t);
+
+  t = Clock::now();
+  TriangleMesh target;
+  if (c.keep_connectivity) {
+    const TriangleMesh fan = fanTriangles(quads);
+    const double location_scale = gridScale(c.location_bits);
+    target.vertices.reserve(c.places.size());
+    for (const detail::VertexPlace& place : c.places) {
+      if (place.triangle >= static_cast<std::int32_t>(fan.faces.size()))
+        throw Error(what + "a vertex place refers to a missing quad triangle (the file is corrupted)");
+      const Face& f = fan.faces[static_cast<std::size_t>(place.triangle)];
+      const Eigen::Vector3d a = fan.vertices[static_cast<std::size_t>(f[0])];
+      target.vertices.push_back(a + (fan.vertices[static_cast<std::size_t>(f[1])] - a) * (place.u / location_scale) +
+                                (fan.vertices[static_cast<std::size_t>(f[2])] - a) * (place.v / location_scale));
+    }
+    target.faces = c.faces;
+  } else {
+    target = subdivideQuadMesh(quads, static_cast<int>(c.subdivision));
+  }
+  PatchMeshReconstruction reconstruction;
+  reconstruction.setPatches(patches);
+  reconstruction.setTargetMesh(target);
+  PatchMeshReconstruction::Report reconstruction_report;
+  reconstruction.compute(out, &reconstruction_report);
+  out.normals.clear();
+  if (!c.keep_connectivity)
+    trimUnseen(unseenVertices(reconstruction, patches, reconstruction_report.estimates), out);
+  c.normalization.invert(out);
+  local.seconds_reconstruct = since(t);
+  if (report) {
+    local.total_bytes = bytes.size();
+    local.quad_vertices = c.quad_positions.size();
+    local.quad_faces = c.quad_faces.size();
+    local.patches = num_patches;
+    local.nonzeros = entries.size();
+    local.masked_patches = maskedPatches(c.observed);
+    local.coefficient_step = c.coefficient_step;
+    local.output_vertices = out.vertices.size();
+    local.output_faces = out.faces.size();
+    *report = local;
+  }
+}
+
+void PatchCodec::compress(const TriangleMesh& mesh, const std::string& path, Report* report) const
+{
+  writeFileAtomically(path, encode(mesh, report));
+}
+
+void PatchCodec::decompress(const std::string& path, TriangleMesh& out, Report* report) const
+{
+  decode(readWholeFile(path), out, report, "'" + path + "': ");
+}
+
+}  // namespace patchdict
+}  // namespace pcl

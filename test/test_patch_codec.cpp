@@ -1,0 +1,287 @@
+// PatchCodec (.pdc) and quad subdivision: round trips with error bounds, determinism, and rejection
+// of truncated, corrupted and mismatched data.
+#include <pcl_patchdict/error.h>
+#include <pcl_patchdict/height_map_patch_extractor.h>
+#include <pcl_patchdict/mesh_io.h>
+#include <pcl_patchdict/metrics.h>
+#include <pcl_patchdict/normalization.h>
+#include <pcl_patchdict/patch_codec.h>
+#include <pcl_patchdict/patch_layout.h>
+#include <pcl_patchdict/quad_subdivision.h>
+
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <omp.h>
+
+using namespace pcl::patchdict;
+using test_support::q;
+using test_support::runTool;
+
+namespace {
+
+TriangleMesh loadBunny()
+{
+  TriangleMesh bunny;
+  readMesh(test_support::dataDir() + "/bunny.obj", bunny);
+  return bunny;
+}
+
+/** A local dictionary of the bunny (48 atoms, 16×16 patches of side 0.08 on its quad layout). */
+PatchDictionary::Ptr bunnyDictionary(const TriangleMesh& bunny, std::uint64_t seed = 1)
+{
+  TriangleMesh unit = bunny;
+  UnitCubeNormalization::fromMesh(unit).apply(unit);
+  PatchLayoutParameters layout_parameters;
+  layout_parameters.quad_length = 0.08;
+  PatchLayout layout;
+  computePatchLayout(unit, layout_parameters, layout);
+  HeightMapPatchExtractor extractor;
+  extractor.setInputMesh(unit);
+  extractor.setSeeds(layout.seeds, layout.frames);
+  extractor.setRadius(0.08 / std::sqrt(2.0));
+  extractor.setGridSize(16);
+  PatchSet patches;
+  extractor.compute(patches);
+  auto dictionary = std::make_shared<PatchDictionary>();
+  dictionary->setNumAtoms(48);
+  dictionary->setSparsity(8);
+  dictionary->setIterations(5);
+  dictionary->setSeed(seed);
+  dictionary->learn(patches.heights, patches.observed);
+  return dictionary;
+}
+
+PatchCodecParameters bunnyParameters()
+{
+  PatchCodecParameters parameters;
+  parameters.quad_length = 0.064;  // patch side 0.08
+  parameters.coefficients = 12;
+  return parameters;
+}
+
+}  // namespace
+
+TEST(QuadSubdivision, SharesEdgePointsAndKeepsTheArea)
+{
+  // Two unit quads side by side in the plane z = 0, and a triangle and a pentagon beside them.
+  QuadMesh quads;
+  quads.vertices = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}};
+  quads.faces = {{0, 1, 4, 3}, {1, 2, 5, 4}};
+  const TriangleMesh fine = subdivideQuadMesh(quads, 3);
+  // 6 corners, 7 edges × 2 inner points, 2 × 4 interior points; 2 × 9 cells × 2 triangles.
+  EXPECT_EQ(fine.vertices.size(), 6u + 14u + 8u);
+  EXPECT_EQ(fine.faces.size(), 36u);
+  EXPECT_NEAR(fine.surfaceArea(), 2.0, 1e-12);
+  for (std::size_t f = 0; f < fine.faces.size(); ++f)
+    EXPECT_GT(fine.faceNormal(f).z(), 0.99);  // orientation kept
+
+  QuadMesh mixed;
+  mixed.vertices = {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {2, 0.5, 0}, {1.5, 1.5, 0}, {0.8, 1.6, 0}};
+  mixed.faces = {{0, 1, 2}, {1, 3, 4, 5, 2}};
+  const TriangleMesh split = subdivideQuadMesh(mixed, 2);
+  // Triangle: 4 triangles; pentagon: 5 fan triangles × 4. Shared edge 1–2 has one point.
+  EXPECT_EQ(split.faces.size(), 4u + 20u);
+  const double area_triangle = 0.5, area_pentagon = [&] {
+    double a = 0.0;
+    const std::vector<int> ring{1, 3, 4, 5, 2};
+    for (std::size_t k = 0; k < ring.size(); ++k) {
+      const auto& p = mixed.vertices[static_cast<std::size_t>(ring[k])];
+      const auto& r = mixed.vertices[static_cast<std::size_t>(ring[(k + 1) % ring.size()])];
+      a += 0.5 * (p.x() * r.y() - r.x() * p.y());
+    }
+    return a;
+  }();
+  EXPECT_NEAR(split.surfaceArea(), area_triangle + area_pentagon, 1e-12);
+  // 6 corners + 1 centre + 9 edges (5 ring + 5 spokes − shared … counted directly) × 1 point.
+  std::size_t on_edges = split.vertices.size() - 6 - 1;
+  EXPECT_EQ(on_edges, 3u + 4u + 5u);  // triangle's 3 edges, pentagon's 4 others, 5 spokes
+  EXPECT_THROW(subdivideQuadMesh(mixed, 0), Error);
+}
+
+TEST(PatchCodec, BunnyRoundTripIsSmallAccurateAndDeterministic)
+{
+  const TriangleMesh bunny = loadBunny();
+  PatchCodec codec;
+  codec.setDictionary(bunnyDictionary(bunny));
+  codec.setParameters(bunnyParameters());
+  PatchCodec::Report report;
+  const std::string bytes = codec.encode(bunny, &report);
+  EXPECT_EQ(bytes.size(), report.total_bytes);
+  EXPECT_GT(report.patches, 300u);
+  EXPECT_LE(report.nonzeros, 12u * report.patches);
+  EXPECT_EQ(report.header_bytes + report.quad_vertex_bytes + report.quad_face_bytes + report.offset_bytes +
+                report.atom_bytes + report.coefficient_bytes + report.mean_bytes + report.mask_bytes +
+                report.connectivity_bytes,
+            report.total_bytes);
+  // Float32 positions and int32 indices would take 12 V + 12 F bytes: at least 50 times more.
+  const double raw_bytes = 12.0 * static_cast<double>(bunny.vertices.size() + bunny.faces.size());
+  EXPECT_GT(raw_bytes / static_cast<double>(bytes.size()), 50.0);
+
+  TriangleMesh decoded;
+  codec.decode(bytes, decoded);
+  const SurfaceDistance distance = surfaceDistance(bunny, decoded, 50000, 1);
+  EXPECT_GT(distance.psnr, 62.0) << "rms " << distance.rms;  // measured 64.9 dB (15.0 kB)
+  RecordProperty("psnr", std::to_string(distance.psnr));
+  RecordProperty("bytes", std::to_string(bytes.size()));
+  EXPECT_LT(distance.hausdorff, 0.05 * distance.bbox_diagonal);
+
+  // Same input, parameters and dictionary: same bytes, with one thread or two; same decoded mesh.
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const std::string again = codec.encode(bunny);
+  TriangleMesh decoded_again;
+  codec.decode(again, decoded_again);
+  omp_set_num_threads(threads);
+  EXPECT_TRUE(again == bytes);
+  ASSERT_EQ(decoded_again.vertices.size(), decoded.vertices.size());
+  EXPECT_TRUE(decoded_again.vertices == decoded.vertices);
+  EXPECT_TRUE(decoded_again.faces == decoded.faces);
+
+  // Through a file.
+  test_support::TempDir dir;
+  codec.compress(bunny, dir.file("bunny.pdc"));
+  EXPECT_TRUE(test_support::readFile(dir.file("bunny.pdc")) == bytes);
+  TriangleMesh from_file;
+  codec.decompress(dir.file("bunny.pdc"), from_file);
+  EXPECT_TRUE(from_file.vertices == decoded.vertices);
+}
+
+TEST(PatchCodec, KeptConnectivityIsTheInputsAndCostsBytes)
+{
+  const TriangleMesh bunny = loadBunny();
+  PatchCodec codec;
+  codec.setDictionary(bunnyDictionary(bunny));
+  PatchCodecParameters parameters = bunnyParameters();
+  codec.setParameters(parameters);
+  PatchCodec::Report self_contained;
+  const std::size_t plain_size = codec.encode(bunny, &self_contained).size();
+  parameters.keep_connectivity = true;
+  codec.setParameters(parameters);
+  PatchCodec::Report report;
+  const std::string bytes = codec.encode(bunny, &report);
+  EXPECT_GT(bytes.size(), plain_size);
+  EXPECT_EQ(report.total_bytes - report.connectivity_bytes,
+            self_contained.total_bytes - self_contained.connectivity_bytes);
+  TriangleMesh decoded;
+  codec.decode(bytes, decoded);
+  ASSERT_EQ(decoded.vertices.size(), bunny.vertices.size());
+  EXPECT_TRUE(decoded.faces == bunny.faces);
+  const SurfaceDistance distance = surfaceDistance(bunny, decoded, 50000, 1);
+  EXPECT_GT(distance.psnr, 62.0);  // measured 65.8 dB
+  RecordProperty("psnr_kept", std::to_string(distance.psnr));
+  RecordProperty("vertex_rmse_over_diagonal", std::to_string(vertexRMSE(bunny, decoded) / distance.bbox_diagonal));
+  // Each vertex comes back near its own place (along the surface too), not just near the surface.
+  EXPECT_LT(vertexRMSE(bunny, decoded), 0.01 * distance.bbox_diagonal);
+}
+
+TEST(PatchCodec, RejectsTruncatedCorruptedAndForeignData)
+{
+  const TriangleMesh bunny = loadBunny();
+  const auto dictionary = bunnyDictionary(bunny);
+  PatchCodec codec;
+  codec.setDictionary(dictionary);
+  codec.setParameters(bunnyParameters());
+  const std::string bytes = codec.encode(bunny);
+  TriangleMesh out;
+  for (const std::size_t size : {std::size_t(0), std::size_t(3), std::size_t(20), std::size_t(100), bytes.size() / 2,
+                                 bytes.size() - 9, bytes.size() - 1})
+    EXPECT_THROW(codec.decode(bytes.substr(0, size), out, nullptr, "'x.pdc': "), Error) << "prefix of " << size;
+  EXPECT_THROW(codec.decode(bytes + "x", out), Error);
+  for (const std::size_t at : {std::size_t(5), std::size_t(40), bytes.size() / 3, bytes.size() - 20}) {
+    std::string corrupted = bytes;
+    corrupted[at] = static_cast<char>(corrupted[at] ^ 0x21);
+    try {
+      codec.decode(corrupted, out, nullptr, "'x.pdc': ");
+      ADD_FAILURE() << "a flipped byte at " << at << " was accepted";
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(message.find("'x.pdc': "), 0u) << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos);
+    }
+  }
+  try {
+    codec.decode("GARBAGE!GARBAGE!", out);
+    ADD_FAILURE() << "garbage accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("not a .pdc file"), std::string::npos) << e.what();
+  }
+  // Another dictionary (same size, other seed) is refused by its fingerprint.
+  PatchCodec other;
+  other.setDictionary(bunnyDictionary(bunny, 2));
+  try {
+    other.decode(bytes, out);
+    ADD_FAILURE() << "decoded with another dictionary";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("another dictionary"), std::string::npos) << e.what();
+  }
+}
+
+TEST(PatchCodec, RejectsBadParametersAndInputs)
+{
+  const TriangleMesh bunny = loadBunny();
+  PatchCodec codec;
+  TriangleMesh out;
+  EXPECT_THROW(codec.encode(bunny), Error);  // no dictionary
+  auto dictionary = std::make_shared<PatchDictionary>();
+  dictionary->setAtoms(Eigen::MatrixXd::Identity(256, 16));
+  codec.setDictionary(dictionary);
+  PatchCodecParameters parameters;
+  parameters.coefficients = 17;  // more than the atoms
+  codec.setParameters(parameters);
+  EXPECT_THROW(codec.encode(bunny), Error);
+  parameters = PatchCodecParameters();
+  parameters.coefficient_bits = 1;
+  codec.setParameters(parameters);
+  EXPECT_THROW(codec.encode(bunny), Error);
+  parameters = PatchCodecParameters();
+  parameters.quad_length = 0.9;  // coarser than the shape
+  codec.setParameters(parameters);
+  EXPECT_THROW(codec.encode(bunny), Error);
+  TriangleMesh cloud = bunny;
+  cloud.faces.clear();
+  codec.setParameters(PatchCodecParameters());
+  EXPECT_THROW(codec.encode(cloud), Error);
+}
+
+TEST(PatchCodec, CommandsCompressDecompressAndFailInOneLine)
+{
+  test_support::TempDir dir;
+  const TriangleMesh bunny = loadBunny();
+  bunnyDictionary(bunny)->save(dir.file("dict.pdd"));
+  const std::string input = test_support::dataDir() + "/bunny.obj";
+  const std::string before = test_support::readFile(input);
+  auto result = runTool("compress " + q(input) + " --dict " + q(dir.file("dict.pdd")) + " -o " +
+                        q(dir.file("b.pdc")) + " --quad-length 0.064 --coefficients 12 --json");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_GT(test_support::jsonNumber(result.out, "psnr"), 62.0);
+  EXPECT_GT(test_support::jsonNumber(result.out, "byte_factor"), 50.0);
+  EXPECT_GT(test_support::jsonNumber(result.out, "entity_factor"), 5.0);
+  EXPECT_EQ(test_support::jsonNumber(result.out, "bytes"),
+            static_cast<double>(test_support::readFile(dir.file("b.pdc")).size()));
+  EXPECT_TRUE(test_support::readFile(input) == before);
+
+  result = runTool("decompress " + q(dir.file("b.pdc")) + " --dict " + q(dir.file("dict.pdd")) + " -o " +
+                   q(dir.file("b.ply")) + " --ref " + q(input) + " --json");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_GT(test_support::jsonNumber(result.out, "psnr"), 62.0);
+
+  // A truncated file and another dictionary: one line, exit 1, no output.
+  const std::string bytes = test_support::readFile(dir.file("b.pdc"));
+  test_support::writeFile(dir.file("cut.pdc"), bytes.substr(0, bytes.size() / 2));
+  result = runTool("decompress " + q(dir.file("cut.pdc")) + " --dict " + q(dir.file("dict.pdd")) + " -o " +
+                   q(dir.file("cut.ply")));
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_TRUE(test_support::endsWithOneErrorLine(result.err)) << result.err;
+  EXPECT_EQ(test_support::readFile(dir.file("cut.ply")), "");
+  bunnyDictionary(bunny, 3)->save(dir.file("other.pdd"));
+  result = runTool("decompress " + q(dir.file("b.pdc")) + " --dict " + q(dir.file("other.pdd")) + " -o " +
+                   q(dir.file("o.ply")));
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find("another dictionary"), std::string::npos) << result.err;
+  EXPECT_EQ(test_support::readFile(dir.file("o.ply")), "");
+  // Missing --dict is a usage error.
+  result = runTool("compress " + q(input) + " -o " + q(dir.file("x.pdc")));
+  EXPECT_EQ(result.exit_code, 2);
+}
