@@ -19,8 +19,8 @@ struct PatchCodecParameters {
   double patch_scale = 1.25;
   int overlap = 0;            ///< k: 4k extra seeds per quad (each one more patch to store)
   int coefficients = 20;      ///< non-zeros per patch (the paper's 20)
-  int coefficient_bits = 8;   ///< uniform quantiser: the 99th percentile of |coefficient| maps to 2^(bits−1) − 1
-  int position_bits = 12;     ///< quad-mesh vertex grid over the unit cube
+  int coefficient_bits = 6;   ///< uniform quantiser: the 99th percentile of |coefficient| maps to 2^(bits−1) − 1
+  int position_bits = 10;     ///< quad-mesh vertex grid over the unit cube (seed offsets absorb its error)
   int subdivision = 0;        ///< splits per quad side of the decoded mesh; 0 = grid size / 2
   /** Laplacian iterations of the coarse shape the quads are laid on. Fewer than the layout's 30:
     * a heavily smoothed shape loses thin parts (the bunny's ears), whose quads then go missing from
