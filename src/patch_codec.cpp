@@ -83,6 +83,42 @@ void applySeedOffsets(const detail::PdcContent& c, PatchSet& patches)
     patches.seeds[q] += patches.rotations[q].row(2).transpose() * (static_cast<double>(c.offsets[q]) / scale);
 }
 
+/** Renumbers the vertices in order of first use by the faces (what the face coding expects) and
+  * drops vertices no face uses; works for triangles and polygons alike. */
+template <typename FaceList>
+void renumberByFirstUse(FaceList& faces, std::vector<Eigen::Vector3d>& vertices)
+{
+  std::vector<std::int32_t> map(vertices.size(), -1);
+  std::vector<Eigen::Vector3d> used;
+  for (auto& face : faces)
+    for (auto& v : face) {
+      auto& slot = map[static_cast<std::size_t>(v)];
+      if (slot < 0) {
+        slot = static_cast<std::int32_t>(used.size());
+        used.push_back(vertices[static_cast<std::size_t>(v)]);
+      }
+      v = slot;
+    }
+  vertices = std::move(used);
+}
+
+/** The codes the receiver decodes: dequantised coefficients and means. */
+PatchCodes dequantisedCodes(const detail::PdcContent& c)
+{
+  const std::size_t num_patches = c.atoms.size();
+  PatchCodes codes;
+  codes.coefficients.resize(static_cast<Eigen::Index>(c.num_atoms), static_cast<Eigen::Index>(num_patches));
+  std::vector<Eigen::Triplet<double, std::int64_t>> entries;
+  for (std::size_t q = 0; q < num_patches; ++q)
+    for (std::size_t i = 0; i < c.atoms[q].size(); ++i)
+      entries.emplace_back(c.atoms[q][i], static_cast<std::int64_t>(q), c.values[q][i] * c.coefficient_step);
+  codes.coefficients.setFromTriplets(entries.begin(), entries.end());
+  codes.means = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(num_patches));
+  for (std::size_t q = 0; q < c.means.size(); ++q)
+    codes.means[static_cast<Eigen::Index>(q)] = static_cast<double>(c.means[q]) * c.mean_step;
+  return codes;
+}
+
 /** Vertices of the target that lie in some patch's square but only over bins the encoder marked
   * unobserved: there is no surface there (a quad spanning an open boundary or a hole of the
   * input). Vertices no square reaches are not among them (the reconstruction fills them from
@@ -112,19 +148,8 @@ void trimUnseen(const std::vector<char>& unseen, TriangleMesh& mesh)
     if (!unseen[static_cast<std::size_t>(f[0])] && !unseen[static_cast<std::size_t>(f[1])] &&
         !unseen[static_cast<std::size_t>(f[2])])
       kept.push_back(f);
-  std::vector<std::int32_t> map(mesh.vertices.size(), -1);
-  std::vector<Eigen::Vector3d> vertices;
-  for (Face& f : kept)
-    for (auto& v : f) {
-      auto& slot = map[static_cast<std::size_t>(v)];
-      if (slot < 0) {
-        slot = static_cast<std::int32_t>(vertices.size());
-        vertices.push_back(mesh.vertices[static_cast<std::size_t>(v)]);
-      }
-      v = slot;
-    }
-  mesh.vertices = std::move(vertices);
   mesh.faces = std::move(kept);
+  renumberByFirstUse(mesh.faces, mesh.vertices);
 }
 
 /** The quad mesh as triangles (fans from each face's first corner): where vertex places live. */
@@ -138,31 +163,23 @@ TriangleMesh fanTriangles(const QuadMesh& quads)
   return mesh;
 }
 
-/** Renumbers the vertices in order of first use by the faces (what the face coding expects) and
-  * drops vertices no face uses. */
-void renumberByFirstUse(QuadMesh& quads)
-{
-  std::vector<std::int32_t> map(quads.vertices.size(), -1);
-  std::vector<Eigen::Vector3d> vertices;
-  for (auto& face : quads.faces)
-    for (auto& v : face) {
-      auto& slot = map[static_cast<std::size_t>(v)];
-      if (slot < 0) {
-        slot = static_cast<std::int32_t>(vertices.size());
-        vertices.push_back(quads.vertices[static_cast<std::size_t>(v)]);
-      }
-      v = slot;
-    }
-  quads.vertices = std::move(vertices);
-  quads.normals.clear();
-}
-
 std::size_t maskedPatches(const ObservationMask& observed)
 {
   std::size_t count = 0;
   for (Eigen::Index p = 0; p < observed.cols(); ++p)
     count += observed.col(p).all() ? 0 : 1;
   return count;
+}
+
+/** What both sides report of the content: counts of the quad mesh, patches and codes. */
+void describeContent(const detail::PdcContent& c, const PatchCodes& codes, PatchCodec::Report& report)
+{
+  report.quad_vertices = c.quad_positions.size();
+  report.quad_faces = c.quad_faces.size();
+  report.patches = c.atoms.size();
+  report.nonzeros = static_cast<std::size_t>(codes.coefficients.nonZeros());
+  report.masked_patches = maskedPatches(c.observed);
+  report.coefficient_step = c.coefficient_step;
 }
 
 }  // namespace
@@ -227,7 +244,8 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
             << p.quad_length << " is too large for this shape";
     throw Error(message.str());
   }
-  renumberByFirstUse(quads);
+  renumberByFirstUse(quads.faces, quads.vertices);
+  quads.normals.clear();
   const PointToMeshDistance to_surface(surface);
   if (p.project_quads)
     for (auto& v : quads.vertices)
@@ -374,16 +392,7 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
   local.seconds_coding = since(t);
   if (report) {
     // The error the receiver will see in the patches: quantised codes against the sampled heights.
-    PatchCodes quantised;
-    quantised.coefficients.resize(atoms, static_cast<Eigen::Index>(num_patches));
-    std::vector<Eigen::Triplet<double, std::int64_t>> entries;
-    for (std::size_t q = 0; q < num_patches; ++q)
-      for (std::size_t i = 0; i < c.atoms[q].size(); ++i)
-        entries.emplace_back(c.atoms[q][i], static_cast<std::int64_t>(q), c.values[q][i] * c.coefficient_step);
-    quantised.coefficients.setFromTriplets(entries.begin(), entries.end());
-    quantised.means = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(num_patches));
-    for (std::size_t q = 0; q < c.means.size(); ++q)
-      quantised.means[static_cast<Eigen::Index>(q)] = static_cast<double>(c.means[q]) * c.mean_step;
+    const PatchCodes quantised = dequantisedCodes(c);
     const Eigen::MatrixXd decoded = dictionary_->decode(quantised);
     double squared = 0.0;
     std::size_t count = 0;
@@ -403,12 +412,7 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
     local.mask_bytes = sizes.masks;
     local.connectivity_bytes = sizes.connectivity;
     local.total_bytes = sizes.total;
-    local.quad_vertices = c.quad_positions.size();
-    local.quad_faces = c.quad_faces.size();
-    local.patches = num_patches;
-    local.nonzeros = entries.size();
-    local.masked_patches = maskedPatches(c.observed);
-    local.coefficient_step = c.coefficient_step;
+    describeContent(c, quantised, local);
     *report = local;
   }
   return bytes;
@@ -442,16 +446,7 @@ void PatchCodec::decode(const std::string& bytes, TriangleMesh& out, Report* rep
   local.seconds_layout = since(t);
 
   t = Clock::now();
-  PatchCodes codes;
-  codes.coefficients.resize(static_cast<Eigen::Index>(c.num_atoms), static_cast<Eigen::Index>(num_patches));
-  std::vector<Eigen::Triplet<double, std::int64_t>> entries;
-  for (std::size_t q = 0; q < num_patches; ++q)
-    for (std::size_t i = 0; i < c.atoms[q].size(); ++i)
-      entries.emplace_back(c.atoms[q][i], static_cast<std::int64_t>(q), c.values[q][i] * c.coefficient_step);
-  codes.coefficients.setFromTriplets(entries.begin(), entries.end());
-  codes.means = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(num_patches));
-  for (std::size_t q = 0; q < c.means.size(); ++q)
-    codes.means[static_cast<Eigen::Index>(q)] = static_cast<double>(c.means[q]) * c.mean_step;
+  const PatchCodes codes = dequantisedCodes(c);
   patches.heights = dictionary_->decode(codes);
   patches.observed = c.observed.size() ? c.observed
                                        : ObservationMask::Constant(patches.heights.rows(), patches.heights.cols(), true);
@@ -488,12 +483,7 @@ void PatchCodec::decode(const std::string& bytes, TriangleMesh& out, Report* rep
   local.seconds_reconstruct = since(t);
   if (report) {
     local.total_bytes = bytes.size();
-    local.quad_vertices = c.quad_positions.size();
-    local.quad_faces = c.quad_faces.size();
-    local.patches = num_patches;
-    local.nonzeros = entries.size();
-    local.masked_patches = maskedPatches(c.observed);
-    local.coefficient_step = c.coefficient_step;
+    describeContent(c, codes, local);
     local.output_vertices = out.vertices.size();
     local.output_faces = out.faces.size();
     *report = local;
