@@ -223,6 +223,14 @@ JsonObject StageTimer::json() const
   return object;
 }
 
+void makeFolder(const std::string& path, const std::string& what)
+{
+  std::error_code ec;
+  std::filesystem::create_directories(path, ec);
+  if (ec)
+    throw Error("cannot create the " + what + " folder '" + path + "': " + ec.message());
+}
+
 void note(bool quiet, const std::string& text)
 {
   if (!quiet)

@@ -91,6 +91,9 @@ bool sameFile(const std::string& a, const std::string& b);
 /** Throws Error when `output` (if not empty) is the same file as `input`. */
 void refuseOverwritingInput(const std::string& output, const std::string& input);
 
+/** Creates `path` (and its parents) unless it exists; Error "cannot create the <what> folder …". */
+void makeFolder(const std::string& path, const std::string& what);
+
 /** Progress/notes line on stderr unless quiet. */
 void note(bool quiet, const std::string& text);
 

@@ -4,11 +4,11 @@
 // alone and with patches, prints a table of errors and times, and writes the meshes and pictures
 // to a folder it names.
 #include "cli.h"
+#include "repair_report.h"
 
 #include <pcl_patchdict/hole_filling.h>
 #include <pcl_patchdict/mesh_damage.h>
 #include <pcl_patchdict/mesh_hygiene.h>
-#include <pcl_patchdict/mesh_render.h>
 #include <pcl_patchdict/metrics.h>
 #include <pcl_patchdict/normalization.h>
 #include <pcl_patchdict/shapes.h>
@@ -61,22 +61,6 @@ double secondsOf(const std::function<void()>& work)
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-/** The mesh rendered with faces from `first_new_face` on in orange (a fill), as PNG. */
-void picture(const std::string& path, const TriangleMesh& mesh, std::size_t first_new_face)
-{
-  std::vector<std::vector<std::int32_t>> faces;
-  std::vector<std::array<std::uint8_t, 3>> colours;
-  for (std::size_t f = 0; f < mesh.numFaces(); ++f) {
-    faces.push_back({mesh.faces[f][0], mesh.faces[f][1], mesh.faces[f][2]});
-    colours.push_back(f >= first_new_face ? std::array<std::uint8_t, 3>{235, 140, 40}
-                                          : std::array<std::uint8_t, 3>{200, 200, 200});
-  }
-  RenderOptions options;
-  options.width = options.height = 600;
-  options.draw_edges = false;
-  writePolygonsPNG(path, mesh.vertices, faces, colours, options);
-}
-
 }  // namespace
 
 int runDemo(const std::vector<std::string>& raw)
@@ -111,10 +95,7 @@ int runDemo(const std::vector<std::string>& raw)
     truth = std::move(closed);
   }
   const double mean_edge = truth.meanEdgeLength();
-  std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  if (ec)
-    throw Error("cannot create the demo folder '" + out_dir + "': " + ec.message());
+  makeFolder(out_dir, "demo");
   const auto file = [&](const std::string& name) { return (std::filesystem::path(out_dir) / name).string(); };
   writeMesh(file("truth.ply"), truth);
   std::vector<Row> rows;
@@ -154,7 +135,7 @@ int runDemo(const std::vector<std::string>& raw)
                               const HoledMesh& holed) {
     writeMesh(file(name + "_input.ply"), holed.mesh);
     if (pictures)
-      picture(file(name + "_input.png"), holed.mesh, holed.mesh.numFaces());
+      writeFillPicture(file(name + "_input.png"), holed.mesh, holed.mesh.numFaces(), 600);
     for (bool patches : {false, true}) {
       TriangleMesh filled;
       Row row{task, patches ? "Liepa + patches" : "Liepa"};
@@ -169,7 +150,7 @@ int runDemo(const std::vector<std::string>& raw)
       const std::string output = name + (patches ? "_patches" : "_liepa");
       writeMesh(file(output + ".ply"), filled);
       if (pictures)
-        picture(file(output + ".png"), filled, holed.mesh.numFaces());
+        writeFillPicture(file(output + ".png"), filled, holed.mesh.numFaces(), 600);
     }
   };
   timer.start("holes");  // 6 of radius 0.035 (the protocol's largest)

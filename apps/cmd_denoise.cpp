@@ -41,6 +41,8 @@ int runDenoise(const std::vector<std::string>& raw)
     throw UsageError("--self-similar excludes --dict and --no-patches");
   if (args.has("noise") && args.has("noise-edges"))
     throw UsageError("--noise and --noise-edges exclude each other");
+  if (args.has("mu"))
+    throw UsageError("--mu weighs the patch constraints of inpaint and fill-holes; denoise's is --fidelity");
   applyCommonOptions(args);
   const bool quiet = args.has("quiet") || args.has("json");
   const std::string in_path = args.positionals()[0], out_path = args.get("output");
@@ -49,28 +51,27 @@ int runDenoise(const std::vector<std::string>& raw)
       SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Denoise);
   readRepairOptions(args, parameters);
   parameters.noise_sigma = args.getDouble("noise", 0.0, 0.0, 1.0);
+  const double noise_edges = args.getDouble("noise-edges", 0.0, 0.0, 100.0);
+  const bool use_patches = args.has("dict") || args.has("self-similar");
+  const std::string dictionary_kind = args.has("dict") ? "given" : (use_patches ? "self-similar" : "none");
   parameters.error_factor = args.getDouble("error-factor", parameters.error_factor, 0.0, 100.0);
   parameters.fidelity = args.getDouble("fidelity", parameters.fidelity, 1e-9, 1e9);
   parameters.base_iterations = static_cast<int>(args.getInt("base-iterations", -1, -1, 10000));
   parameters.discrepancy = args.getDouble("discrepancy", parameters.discrepancy, 0.0, 100.0);
 
+  const ReportRequest report_request = prepareReport(args);
   StageTimer timer(quiet);
   timer.start("load");
   const TriangleMesh mesh = loadRepairMesh(in_path, quiet, "denoise");
   const PatchDictionary::ConstPtr dictionary = loadRepairDictionary(args);
-  if (args.has("noise-edges")) {
-    // σ in mean edge lengths of the normalised input.
-    TriangleMesh normalised = mesh;
-    UnitCubeNormalization::fromMesh(normalised).apply(normalised);
-    parameters.noise_sigma = args.getDouble("noise-edges", 0.0, 0.0, 100.0) * normalised.meanEdgeLength();
-  }
+  if (args.has("noise-edges"))  // σ in mean edge lengths, in the unit-cube units of the other lengths
+    parameters.noise_sigma = noise_edges * UnitCubeNormalization::fromMesh(mesh).applyLength(mesh.meanEdgeLength());
 
   timer.start("denoise");
   SparsePatchInpainter inpainter;
   inpainter.setMode(SparsePatchInpainter::Mode::Denoise);
   inpainter.setInputMesh(mesh);
   inpainter.setDictionary(dictionary);
-  const bool use_patches = args.has("dict") || args.has("self-similar");
   inpainter.setUsePatches(use_patches);
   inpainter.setParameters(parameters);
   TriangleMesh denoised;
@@ -88,13 +89,13 @@ int runDenoise(const std::vector<std::string>& raw)
   timer.start("write");
   writeMesh(out_path, denoised);
   timer.stop();
-  const JsonObject report_json = reportIfAsked(args, mesh, denoised, denoised.numFaces(), quiet);
+  const JsonObject report_json = reportIfAsked(report_request, mesh, denoised, denoised.numFaces(), quiet);
 
   if (args.has("json")) {
     JsonObject json;
     json.add("command", "denoise").add("input", in_path).add("output", out_path);
     json.add("vertices", mesh.numVertices()).add("faces", mesh.numFaces());
-    json.add("patches", report.used_patches).add("dictionary", (use_patches ? dictionaryKind(args) : std::string("none")));
+    json.add("patches", report.used_patches).add("dictionary", dictionary_kind);
     json.add("noise_sigma", report.noise_sigma).add("noise_estimated", report.noise_estimated);
     json.add("base_iterations", report.base_iterations);
     json.add("noise_sigma_over_mean_edge", report.noise_sigma / std::max(report.mean_edge_length, 1e-300));
@@ -109,7 +110,7 @@ int runDenoise(const std::vector<std::string>& raw)
     std::cout << json.str() << '\n';
   } else if (!quiet) {
     std::printf("denoised %zu vertices (%s) -> %s\n", mesh.numVertices(),
-                report.used_patches ? ((use_patches ? dictionaryKind(args) : std::string("none")) + " dictionary").c_str() : "Taubin base alone",
+                report.used_patches ? (dictionary_kind + " dictionary").c_str() : "Taubin base alone",
                 out_path.c_str());
   }
   return 0;

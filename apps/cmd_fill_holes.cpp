@@ -59,6 +59,7 @@ int runFillHoles(const std::vector<std::string>& raw)
   else
     throw UsageError("--surface takes auto, smooth or relief, not '" + surface + "'");
 
+  const ReportRequest report_request = prepareReport(args);
   StageTimer timer(quiet);
   timer.start("load");
   const TriangleMesh mesh = loadRepairMesh(in_path, quiet, "fill-holes");
@@ -95,7 +96,7 @@ int runFillHoles(const std::vector<std::string>& raw)
   timer.start("write");
   writeMesh(out_path, filled);
   timer.stop();
-  const JsonObject report_json = reportIfAsked(args, mesh, filled, mesh.numFaces(), quiet);
+  const JsonObject report_json = reportIfAsked(report_request, mesh, filled, mesh.numFaces(), quiet);
 
   std::map<std::string, std::size_t> reasons;
   for (const auto& hole : report.holes)

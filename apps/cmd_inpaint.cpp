@@ -41,6 +41,7 @@ int runInpaint(const std::vector<std::string>& raw)
       SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::MissingVertices);
   readRepairOptions(args, parameters);
 
+  const ReportRequest report_request = prepareReport(args);
   StageTimer timer(quiet);
   timer.start("load");
   const TriangleMesh mesh = loadMesh(in_path, quiet);
@@ -61,7 +62,7 @@ int runInpaint(const std::vector<std::string>& raw)
   timer.start("write");
   writeMesh(out_path, repaired);
   timer.stop();
-  const JsonObject report_json = reportIfAsked(args, mesh, repaired, repaired.numFaces(), quiet);
+  const JsonObject report_json = reportIfAsked(report_request, mesh, repaired, repaired.numFaces(), quiet);
 
   const std::string dictionary_kind = dictionaryKind(args);
   if (report.used_patches)

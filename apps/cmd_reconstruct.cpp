@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <utility>
 
 namespace pcl {
 namespace patchdict {
@@ -26,16 +27,10 @@ namespace {
 double codeThroughDictionary(const PatchDictionary& dictionary, int sparsity, PatchSet& patches)
 {
   const PatchCodes codes = dictionary.encodeMasked(patches.heights, patches.observed, {sparsity, 0.0});
-  const Eigen::MatrixXd decoded = dictionary.decode(codes);
-  double squared = 0.0;
-  std::size_t count = 0;
-  for (Eigen::Index i = 0; i < decoded.size(); ++i)
-    if (patches.observed.data()[i]) {
-      squared += std::pow(decoded.data()[i] - patches.heights.data()[i], 2);
-      ++count;
-    }
-  patches.heights = decoded;
-  return count ? std::sqrt(squared / static_cast<double>(count)) : 0.0;
+  Eigen::MatrixXd decoded = dictionary.decode(codes);
+  const double rmse = observedRMSE(decoded, patches.heights, patches.observed);
+  patches.heights = std::move(decoded);
+  return rmse;
 }
 
 }  // namespace

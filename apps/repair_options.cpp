@@ -3,7 +3,6 @@
 #include "repair_report.h"
 
 #include <algorithm>
-#include <filesystem>
 #include <cstdio>
 
 namespace pcl {
@@ -43,14 +42,6 @@ void readRepairOptions(const Arguments& args, SparsePatchInpainter::Parameters& 
     throw UsageError("--dict and --no-patches exclude each other");
   if (args.has("ref") && !args.has("report"))
     throw UsageError("--ref is the reference of --report DIR");
-  if (args.has("report")) {
-    // Made before any work: a report that cannot be written must fail the command before its
-    // output exists, not after.
-    std::error_code ec;
-    std::filesystem::create_directories(args.get("report"), ec);
-    if (ec)
-      throw Error("cannot create the report folder '" + args.get("report") + "': " + ec.message());
-  }
   parameters.quad_length = args.getDouble("quad-length", 0.0, 0.0, 0.5);
   parameters.quad_length_factor = args.getDouble("quad-factor", parameters.quad_length_factor, 0.1, 1000.0);
   parameters.sparsity = static_cast<int>(args.getInt("sparsity", parameters.sparsity, 1, 1024));
@@ -76,17 +67,31 @@ PatchDictionary::ConstPtr loadRepairDictionary(const Arguments& args)
   return PatchDictionary::load(args.get("dict"), static_cast<int>(args.getInt("grid", 0, 0, 256)));
 }
 
-JsonObject reportIfAsked(const Arguments& args, const TriangleMesh& before, const TriangleMesh& after,
+ReportRequest prepareReport(const Arguments& args)
+{
+  ReportRequest request;
+  if (!args.has("report"))
+    return request;
+  request.error_scale = args.getDouble("error-scale", 0.0, 0.0, 1e300);
+  if (args.has("ref")) {
+    request.reference = loadMesh(args.get("ref"), true);
+    if (request.reference.faces.empty())
+      throw Error("--ref '" + args.get("ref") + "' has no faces: the error colouring needs a surface");
+    request.has_reference = true;
+  }
+  makeFolder(args.get("report"), "report");
+  request.folder = args.get("report");
+  return request;
+}
+
+JsonObject reportIfAsked(const ReportRequest& request, const TriangleMesh& before, const TriangleMesh& after,
                          std::size_t first_new_face, bool quiet)
 {
-  if (!args.has("report"))
+  if (request.folder.empty())
     return JsonObject();
-  TriangleMesh reference;
-  if (args.has("ref"))
-    reference = loadMesh(args.get("ref"), true);
-  note(quiet, "report -> " + args.get("report"));
-  return writeRepairReport(args.get("report"), before, after, first_new_face, args.has("ref") ? &reference : nullptr,
-                           args.getDouble("error-scale", 0.0, 0.0, 1e300));
+  note(quiet, "report -> " + request.folder);
+  return writeRepairReport(request.folder, before, after, first_new_face,
+                           request.has_reference ? &request.reference : nullptr, request.error_scale);
 }
 
 std::string dictionaryKind(const Arguments& args)

@@ -20,15 +20,26 @@ const std::set<std::string>& repairValueOptions();
 void checkRepairOutput(const std::string& out_path, const std::string& in_path, bool keeps_vertex_order);
 /** loadMesh, and an Error naming `command` when the file has no faces. */
 TriangleMesh loadRepairMesh(const std::string& path, bool quiet, const std::string& command);
-/** Reads those options into `parameters` (whose values are the defaults); checks that --dict and
-  * --no-patches, --ref without --report are UsageErrors, and makes the --report folder. */
+/** Reads those options into `parameters` (whose values are the defaults); --dict with --no-patches
+  * and --ref without --report are UsageErrors. */
 void readRepairOptions(const Arguments& args, SparsePatchInpainter::Parameters& parameters);
+
+/** What --report DIR [--ref REF [--error-scale E]] asks for. */
+struct ReportRequest {
+  std::string folder;  ///< empty: no report
+  TriangleMesh reference;
+  bool has_reference = false;
+  double error_scale = 0.0;
+};
+/** Reads the reference (it must have faces) and makes the folder: called after every option is
+  * parsed and before any work, so that a report that cannot be made fails the command before its
+  * output exists, and a command-line error leaves no folder behind. */
+ReportRequest prepareReport(const Arguments& args);
 /** --dict D (checked against --grid), or null. */
 PatchDictionary::ConstPtr loadRepairDictionary(const Arguments& args);
-/** With --report DIR: the pictures (and with --ref REF the error colouring, red at --error-scale,
-  * default the 99th percentile) of repair_report.h;
-  * an empty object otherwise. --ref without --report is a UsageError. */
-JsonObject reportIfAsked(const Arguments& args, const TriangleMesh& before, const TriangleMesh& after,
+/** The pictures (and with a reference the error colouring, red at --error-scale, default the 99th
+  * percentile) of repair_report.h when a report was asked for; an empty object otherwise. */
+JsonObject reportIfAsked(const ReportRequest& request, const TriangleMesh& before, const TriangleMesh& after,
                          std::size_t first_new_face, bool quiet);
 /** "given", "self-similar" or "none". */
 std::string dictionaryKind(const Arguments& args);

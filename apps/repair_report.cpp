@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <cstring>
 #include <filesystem>
 
 namespace pcl {
@@ -29,14 +28,17 @@ Colour errorColour(double t)
   return {255, channel(2.0 - 2.0 * t), channel(2.0 - 2.0 * t)};
 }
 
-void render(const std::string& path, const TriangleMesh& mesh, const std::vector<Colour>& face_colours)
+const Colour kGrey{200, 200, 200}, kFill{235, 140, 40};
+
+void render(const std::string& path, const TriangleMesh& mesh, const std::vector<Colour>& face_colours,
+            int pixels = 800)
 {
   std::vector<std::vector<std::int32_t>> faces;
   faces.reserve(mesh.numFaces());
   for (const Face& f : mesh.faces)
     faces.push_back({f[0], f[1], f[2]});
   RenderOptions options;
-  options.width = options.height = 800;
+  options.width = options.height = pixels;
   options.draw_edges = mesh.numFaces() < 20000;
   writePolygonsPNG(path, mesh.vertices, faces, face_colours, options);
 }
@@ -71,23 +73,22 @@ void writeColouredPly(const std::string& path, const TriangleMesh& mesh, const s
 
 }  // namespace
 
+void writeFillPicture(const std::string& path, const TriangleMesh& mesh, std::size_t first_new_face, int pixels)
+{
+  std::vector<Colour> colours(mesh.numFaces(), kGrey);
+  for (std::size_t f = std::min(first_new_face, mesh.numFaces()); f < mesh.numFaces(); ++f)
+    colours[f] = kFill;
+  render(path, mesh, colours, pixels);
+}
+
 JsonObject writeRepairReport(const std::string& dir, const TriangleMesh& before, const TriangleMesh& after,
                              std::size_t first_new_face, const TriangleMesh* reference, double scale)
 {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec)
-    throw Error("cannot create the report folder '" + dir + "': " + ec.message());
-  const auto file = [&](const std::string& name) { return (fs::path(dir) / name).string(); };
+  const auto file = [&](const std::string& name) { return (std::filesystem::path(dir) / name).string(); };
   JsonObject json;
   json.add("folder", dir);
-  const Colour grey{200, 200, 200}, fill{235, 140, 40};
-  render(file("before.png"), before, std::vector<Colour>(before.numFaces(), grey));
-  std::vector<Colour> after_colours(after.numFaces(), grey);
-  for (std::size_t f = std::min(first_new_face, after.numFaces()); f < after.numFaces(); ++f)
-    after_colours[f] = fill;
-  render(file("after.png"), after, after_colours);
+  writeFillPicture(file("before.png"), before, before.numFaces());
+  writeFillPicture(file("after.png"), after, first_new_face);
   json.add("before_png", file("before.png")).add("after_png", file("after.png"));
   if (!reference)
     return json;

@@ -12,11 +12,16 @@ namespace pcl {
 namespace patchdict {
 namespace cli {
 
+/** The mesh as a PNG of `pixels`², grey, faces from `first_new_face` on in orange (a fill); edges
+  * drawn on meshes of fewer than 20 000 faces. */
+void writeFillPicture(const std::string& path, const TriangleMesh& mesh, std::size_t first_new_face, int pixels = 800);
+
 /** Writes DIR/before.png and DIR/after.png (faces from `first_new_face` on in orange: a fill),
   * and with a reference DIR/error.ply (the output with per-vertex colours: distance to the
   * reference surface, blue 0 → red at `scale`, 0 = the 99th percentile) and DIR/error.png.
   * Both meshes and the reference in the same coordinates. Returns what it wrote and measured for
-  * --json. Throws Error when DIR cannot be made or a file cannot be written. */
+  * --json. DIR must exist (prepareReport makes it before any work). Throws Error when a file
+  * cannot be written. */
 JsonObject writeRepairReport(const std::string& dir, const TriangleMesh& before, const TriangleMesh& after,
                              std::size_t first_new_face, const TriangleMesh* reference, double scale = 0.0);
 

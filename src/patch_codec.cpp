@@ -60,14 +60,14 @@ QuadMesh rebuildQuadMesh(const detail::PdcContent& c)
   return quads;
 }
 
-/** Seeds and frames of the patches: QuadFrameEstimation on the rebuilt quad mesh. */
+/** Seeds and frames of the patches: QuadFrameEstimation on the rebuilt quad mesh; the frames also
+  * as rotations (PatchSet's form). */
 void quadSeeds(const QuadMesh& quads, std::uint32_t overlap, std::vector<Eigen::Vector3d>& seeds,
-               std::vector<Eigen::Matrix3d>& rotations)
+               pcl::PointCloud<pcl::ReferenceFrame>& frames, std::vector<Eigen::Matrix3d>& rotations)
 {
   QuadFrameEstimation estimation;
   estimation.setInputQuadMesh(quads);
   estimation.setOverlap(static_cast<int>(overlap));
-  pcl::PointCloud<pcl::ReferenceFrame> frames;
   estimation.compute(seeds, frames);
   rotations.clear();
   rotations.reserve(frames.size());
@@ -119,27 +119,9 @@ PatchCodes dequantisedCodes(const detail::PdcContent& c)
   return codes;
 }
 
-/** Vertices of the target that lie in some patch's square but only over bins the encoder marked
-  * unobserved: there is no surface there (a quad spanning an open boundary or a hole of the
-  * input). Vertices no square reaches are not among them (the reconstruction fills them from
-  * their ring). */
-std::vector<char> unseenVertices(const PatchMeshReconstruction& reconstruction, const PatchSet& patches,
-                                 const std::vector<std::int32_t>& estimates)
-{
-  std::vector<char> unseen(estimates.size(), 0);
-  const int grid = patches.grid_size;
-  const double side = patches.side();
-  for (const VertexPatchSample& sample : reconstruction.computeMapping()) {
-    if (estimates[static_cast<std::size_t>(sample.vertex)] > 0)
-      continue;
-    const int i = std::clamp(static_cast<int>(std::floor((sample.x / side + 0.5) * grid)), 0, grid - 1);
-    const int j = std::clamp(static_cast<int>(std::floor((sample.y / side + 0.5) * grid)), 0, grid - 1);
-    unseen[static_cast<std::size_t>(sample.vertex)] = patches.observed(j * grid + i, sample.patch) ? 0 : 1;
-  }
-  return unseen;
-}
-
-/** Drops the faces that reach an unseen vertex, then the vertices no face uses. */
+/** Drops the faces that reach an unseen vertex (PatchMeshReconstruction::Report::off_surface: the
+  * stored masks say no surface was seen there — a quad spanning an open boundary or a hole of the
+  * input), then the vertices no face uses. */
 void trimUnseen(const std::vector<char>& unseen, TriangleMesh& mesh)
 {
   std::vector<Face> kept;
@@ -280,15 +262,13 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
   PatchSet patches;
   patches.grid_size = grid;
   patches.radius = c.radius;
-  quadSeeds(quads, c.overlap, patches.seeds, patches.rotations);
+  pcl::PointCloud<pcl::ReferenceFrame> frames;
+  quadSeeds(quads, c.overlap, patches.seeds, frames, patches.rotations);
   if (patches.seeds.empty())
     throw Error("codec: the quad mesh has no usable face");
   local.seconds_layout = since(t);
 
   t = Clock::now();
-  pcl::PointCloud<pcl::ReferenceFrame> frames;
-  for (const auto& r : patches.rotations)
-    frames.push_back(toReferenceFrame(r));
   HeightMapPatchExtractor extractor;
   extractor.setInputMesh(surface);
   extractor.setRadius(c.radius);
@@ -393,15 +373,7 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
   if (report) {
     // The error the receiver will see in the patches: quantised codes against the sampled heights.
     const PatchCodes quantised = dequantisedCodes(c);
-    const Eigen::MatrixXd decoded = dictionary_->decode(quantised);
-    double squared = 0.0;
-    std::size_t count = 0;
-    for (Eigen::Index i = 0; i < decoded.size(); ++i)
-      if (sampled.observed.data()[i]) {
-        squared += std::pow(decoded.data()[i] - sampled.heights.data()[i], 2);
-        ++count;
-      }
-    local.patch_rmse = count ? std::sqrt(squared / static_cast<double>(count)) : 0.0;
+    local.patch_rmse = observedRMSE(dictionary_->decode(quantised), sampled.heights, sampled.observed);
     local.header_bytes = sizes.header + 8;  // + checksum
     local.quad_vertex_bytes = sizes.quad_vertices;
     local.quad_face_bytes = sizes.quad_faces;
@@ -436,7 +408,8 @@ void PatchCodec::decode(const std::string& bytes, TriangleMesh& out, Report* rep
   PatchSet patches;
   patches.grid_size = static_cast<int>(c.grid_size);
   patches.radius = c.radius;
-  quadSeeds(quads, c.overlap, patches.seeds, patches.rotations);
+  pcl::PointCloud<pcl::ReferenceFrame> frames;
+  quadSeeds(quads, c.overlap, patches.seeds, frames, patches.rotations);
   const std::size_t num_patches = c.atoms.size();
   if (patches.seeds.size() != num_patches)
     throw Error(what + "the quad mesh gives " + std::to_string(patches.seeds.size()) + " patches, the file codes " +
@@ -478,7 +451,7 @@ void PatchCodec::decode(const std::string& bytes, TriangleMesh& out, Report* rep
   reconstruction.compute(out, &reconstruction_report);
   out.normals.clear();
   if (!c.keep_connectivity)
-    trimUnseen(unseenVertices(reconstruction, patches, reconstruction_report.estimates), out);
+    trimUnseen(reconstruction_report.off_surface, out);
   c.normalization.invert(out);
   local.seconds_reconstruct = since(t);
   if (report) {

@@ -46,6 +46,21 @@ int gridOf(Eigen::Index rows)
 
 }  // namespace
 
+double observedRMSE(const Eigen::MatrixXd& estimate, const Eigen::MatrixXd& heights, const ObservationMask& mask)
+{
+  if (estimate.rows() != heights.rows() || estimate.cols() != heights.cols() ||
+      (mask.size() != 0 && (mask.rows() != heights.rows() || mask.cols() != heights.cols())))
+    throw Error("observedRMSE: the estimate, the heights and the mask differ in size");
+  double squared = 0.0;
+  std::size_t count = 0;
+  for (Eigen::Index i = 0; i < heights.size(); ++i)
+    if (mask.size() == 0 || mask.data()[i]) {
+      squared += std::pow(estimate.data()[i] - heights.data()[i], 2);
+      ++count;
+    }
+  return count ? std::sqrt(squared / static_cast<double>(count)) : 0.0;
+}
+
 std::uint64_t fnv1a64(const void* data, std::size_t size, std::uint64_t hash)
 {
   const auto* bytes = static_cast<const std::uint8_t*>(data);

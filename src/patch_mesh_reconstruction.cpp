@@ -98,6 +98,7 @@ void PatchMeshReconstruction::compute(TriangleMesh& out, Report* report) const
   const std::size_t n = target_->vertices.size();
   // Estimates per vertex (the mapping is in vertex order), combined robustly below.
   std::vector<std::vector<Eigen::Vector3d>> points(n);
+  std::vector<char> over_unobserved(n, 0);
 
   // Continuous bin coordinate of a tangent coordinate: bin centres sit at integers.
   auto binCoordinate = [&](double t) { return (t + 0.5 * side) / bin - 0.5; };
@@ -111,8 +112,10 @@ void PatchMeshReconstruction::compute(TriangleMesh& out, Report* report) const
     if (rule_ == Rule::BinCentres) {
       const int i = std::clamp(static_cast<int>(std::floor(u + 0.5)), 0, grid - 1);
       const int j = std::clamp(static_cast<int>(std::floor(w + 0.5)), 0, grid - 1);
-      if (!observed(patch, i, j))
+      if (!observed(patch, i, j)) {
+        over_unobserved[static_cast<std::size_t>(sample.vertex)] = 1;
         continue;
+      }
       local = Eigen::Vector3d((i + 0.5) * bin - 0.5 * side, (j + 0.5) * bin - 0.5 * side, height(patch, i, j));
     } else {
       // The 2×2 bin centres around (u, w); at the border the nearest pair, extrapolated linearly.
@@ -141,8 +144,10 @@ void PatchMeshReconstruction::compute(TriangleMesh& out, Report* report) const
         // A vertex on the rim of an open surface has unobserved bins on its outer side: the
         // observed corners, renormalised, are still a far better height than its 1-ring's mean
         // (measured on an open relief: 45 rim vertices carried 99.6 % of the squared error).
-        if (total < 1e-3)
+        if (total < 1e-3) {
+          over_unobserved[static_cast<std::size_t>(sample.vertex)] = 1;
           continue;
+        }
         h /= total;
       }
       local = Eigen::Vector3d(sample.x, sample.y, h);
@@ -239,6 +244,9 @@ void PatchMeshReconstruction::compute(TriangleMesh& out, Report* report) const
   out = std::move(result);
   if (report) {
     local_report.estimates.assign(estimates.begin(), estimates.end());
+    local_report.off_surface.assign(n, 0);
+    for (std::size_t v = 0; v < n; ++v)
+      local_report.off_surface[v] = estimates[v] == 0 && over_unobserved[v];
     *report = std::move(local_report);
   }
 }

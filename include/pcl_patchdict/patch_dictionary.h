@@ -105,6 +105,11 @@ private:
   Eigen::MatrixXd gram_;   // atomsᵀ · atoms
 };
 
+/** RMS of estimate − heights over the entries `mask` marks observed (all entries for an empty
+  * mask); 0 when nothing is observed. How well codes describe the surface they were fitted to. */
+double observedRMSE(const Eigen::MatrixXd& estimate, const Eigen::MatrixXd& heights,
+                    const ObservationMask& mask = ObservationMask());
+
 /** 64-bit FNV-1a of a byte range: the checksum of the project's binary formats. */
 std::uint64_t fnv1a64(const void* data, std::size_t size, std::uint64_t hash = 0xcbf29ce484222325ULL);
 

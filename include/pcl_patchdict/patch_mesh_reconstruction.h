@@ -54,6 +54,9 @@ public:
     double mean_estimates = 0.0;        ///< estimates per covered vertex (after rejection)
     std::size_t estimates_rejected = 0; ///< estimates dropped as far from their vertex's median
     std::vector<std::int32_t> estimates;  ///< per vertex: how many patches estimated it
+    /** Per vertex: no estimate, and at least one patch's square held it over unobserved bins —
+      * the patches saw no surface there (a decoder trims such vertices; see PatchCodec). */
+    std::vector<char> off_surface;
   };
 
   void setPatches(const PatchSet& patches) { patches_ = &patches; }
