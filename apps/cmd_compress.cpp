@@ -4,6 +4,7 @@
 
 #include <pcl_patchdict/atomic_file.h>
 #include <pcl_patchdict/metrics.h>
+#include <pcl_patchdict/normalization.h>
 #include <pcl_patchdict/patch_codec.h>
 
 #include <cmath>
@@ -26,9 +27,11 @@ JsonObject partsJson(const PatchCodec::Report& r)
   return parts;
 }
 
-void addPsnr(JsonObject& json, const SurfaceDistance& d)
+/** Distances in the reference's unit-cube units (as `eval` reports them) and PSNR. */
+void addPsnr(JsonObject& json, const SurfaceDistance& d, const TriangleMesh& reference)
 {
-  json.add("rms", d.rms).add("hausdorff", d.hausdorff);
+  const UnitCubeNormalization unit = UnitCubeNormalization::fromMesh(reference);
+  json.add("units", "unit-cube").add("rms", unit.applyLength(d.rms)).add("hausdorff", unit.applyLength(d.hausdorff));
   if (std::isfinite(d.psnr))
     json.add("psnr", d.psnr);
   else
@@ -116,7 +119,7 @@ int runCompress(const std::vector<std::string>& raw)
     json.add("entity_factor", entity_factor).add("raw_bytes", raw_bytes).add("byte_factor", byte_factor);
     json.add("patch_rmse", report.patch_rmse);
     if (evaluate)
-      addPsnr(json, distance);
+      addPsnr(json, distance, mesh);
     json.add("seconds", timer.json());
     std::cout << json.str() << '\n';
   } else if (!args.has("quiet")) {
@@ -162,10 +165,11 @@ int runDecompress(const std::vector<std::string>& raw)
   timer.start("save");
   writeMesh(output, decoded);
   SurfaceDistance distance;
+  TriangleMesh reference;
   if (args.has("ref")) {
     timer.start("eval");
-    const TriangleMesh reference = loadMesh(args.get("ref"), true);
-    distance = surfaceDistance(reference, decoded, samples, 1);
+    reference = loadMesh(args.get("ref"), true);
+    distance = surfaceDistance(reference, decoded, samples, static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62))));
   }
   timer.stop();
   if (args.has("json")) {
@@ -174,7 +178,7 @@ int runDecompress(const std::vector<std::string>& raw)
     json.add("bytes", report.total_bytes).add("patches", report.patches).add("nonzeros", report.nonzeros);
     json.add("vertices", report.output_vertices).add("faces", report.output_faces);
     if (args.has("ref"))
-      addPsnr(json, distance);
+      addPsnr(json, distance, reference);
     json.add("seconds", timer.json());
     std::cout << json.str() << '\n';
   } else if (!args.has("quiet")) {

@@ -52,6 +52,7 @@ struct Row {
   std::string task, method;
   double error = 0.0, second_error = -1.0;  // ×1e-3 of the unit cube
   double seconds = 0.0;
+  std::string key{};  ///< name in --json (key_error, key_new_vertices_error, seconds.key)
 };
 
 double secondsOf(const std::function<void()>& work)
@@ -126,13 +127,14 @@ int runDemo(const std::vector<std::string>& raw)
     Row row{"missing 20 %", patches ? "bi-Laplacian + patches" : "bi-Laplacian"};
     repair(SparsePatchInpainter::Mode::MissingVertices, damaged, patches, missing, repaired, row);
     row.error = 1e3 * vertexRMSE(truth, repaired, missing);
+    row.key = patches ? "missing_patches" : "missing_bilaplacian";
     rows.push_back(row);
     writeMesh(file(patches ? "missing_patches.ply" : "missing_bilaplacian.ply"), repaired);
   }
 
   // 2. Holes, Liepa alone and with patches, scored on the protocol's two measures.
-  const auto fill_holes = [&](const std::string& task, const std::string& name, const TriangleMesh& clean,
-                              const HoledMesh& holed) {
+  const auto fill_holes = [&](const std::string& task, const std::string& name, const std::string& key,
+                              const TriangleMesh& clean, const HoledMesh& holed) {
     writeMesh(file(name + "_input.ply"), holed.mesh);
     if (pictures)
       writeFillPicture(file(name + "_input.png"), holed.mesh, holed.mesh.numFaces(), 600);
@@ -146,6 +148,7 @@ int runDemo(const std::vector<std::string>& raw)
       const HoleFillScore score = scoreHoleFill(clean, holed, filled);
       row.error = 1e3 * score.removed_to_output;
       row.second_error = 1e3 * score.new_to_truth;
+      row.key = key + (patches ? "_patches" : "_liepa");
       rows.push_back(row);
       const std::string output = name + (patches ? "_patches" : "_liepa");
       writeMesh(file(output + ".ply"), filled);
@@ -155,24 +158,25 @@ int runDemo(const std::vector<std::string>& raw)
   };
   timer.start("holes");  // 6 of radius 0.035 (the protocol's largest)
   const HoledMesh holed = punchHoles(truth, 6, 0.035, seed + 1);
-  fill_holes("holes r 0.035", "holes", truth, holed);
+  fill_holes("holes r 0.035", "holes", "holes", truth, holed);
   // The same on a relief, where a smooth fill has nothing to go on and patches copy the pattern: a
   // sinusoidal relief (period 0.1, amplitude 0.02) with 6 holes of radius 0.04.
   timer.start("relief_holes");
   const TriangleMesh relief = makeSinusoidalRelief(100, 100, 0.02, 0.1);
   writeMesh(file("relief_truth.ply"), relief);
-  fill_holes("relief holes", "relief_holes", relief, punchHoles(relief, 6, 0.04, seed + 3));
+  fill_holes("relief holes", "relief_holes", "relief", relief, punchHoles(relief, 6, 0.04, seed + 3));
 
   // 3. Noise: σ = 0.5 × mean edge along the normals.
   timer.start("denoise");
   const TriangleMesh noisy = addNormalNoise(truth, 0.5 * mean_edge, seed + 2);
   writeMesh(file("noise_input.ply"), noisy);
-  rows.push_back(Row{"noise 0.5 edge", "noisy input", 1e3 * vertexRMSE(truth, noisy), -1.0, 0.0});
+  rows.push_back(Row{"noise 0.5 edge", "noisy input", 1e3 * vertexRMSE(truth, noisy), -1.0, 0.0, "noisy"});
   for (bool patches : {false, true}) {
     TriangleMesh denoised;
     Row row{"noise 0.5 edge", patches ? "Taubin + self-similar patches" : "Taubin (discrepancy)"};
     repair(SparsePatchInpainter::Mode::Denoise, noisy, patches, {}, denoised, row);
     row.error = 1e3 * vertexRMSE(truth, denoised);
+    row.key = patches ? "denoise_patches" : "denoise_taubin";
     rows.push_back(row);
     writeMesh(file(patches ? "denoise_patches.ply" : "denoise_taubin.ply"), denoised);
   }
@@ -184,18 +188,15 @@ int runDemo(const std::vector<std::string>& raw)
     json.add("faces", truth.numFaces()).add("mean_edge", mean_edge).add("folder", out_dir);
     json.add("missing_vertices", missing.size()).add("holes", holed.centres.size());
     json.add("removed_vertices", holed.removed.size());
-    const char* keys[] = {"missing_bilaplacian", "missing_patches", "holes_liepa",    "holes_patches",
-                          "relief_liepa",        "relief_patches",  "noisy",          "denoise_taubin",
-                          "denoise_patches"};
     for (std::size_t i = 0; i < rows.size(); ++i) {
-      const std::string key = keys[i];
+      const std::string& key = rows[i].key;
       json.add(key + "_error", rows[i].error);
       if (rows[i].second_error >= 0.0)
         json.add(key + "_new_vertices_error", rows[i].second_error);
     }
     JsonObject seconds = timer.json();
     for (std::size_t i = 0; i < rows.size(); ++i)
-      seconds.add(keys[i], rows[i].seconds);
+      seconds.add(rows[i].key, rows[i].seconds);
     json.add("seconds", seconds);
     std::cout << json.str() << '\n';
     return 0;

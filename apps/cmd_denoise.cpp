@@ -63,7 +63,7 @@ int runDenoise(const std::vector<std::string>& raw)
   StageTimer timer(quiet);
   timer.start("load");
   const TriangleMesh mesh = loadRepairMesh(in_path, quiet, "denoise");
-  const PatchDictionary::ConstPtr dictionary = loadRepairDictionary(args);
+  const PatchDictionary::ConstPtr dictionary = loadRepairDictionary(args, parameters.grid_size);
   if (args.has("noise-edges"))  // σ in mean edge lengths, in the unit-cube units of the other lengths
     parameters.noise_sigma = noise_edges * UnitCubeNormalization::fromMesh(mesh).applyLength(mesh.meanEdgeLength());
 

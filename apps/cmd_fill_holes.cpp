@@ -63,7 +63,7 @@ int runFillHoles(const std::vector<std::string>& raw)
   StageTimer timer(quiet);
   timer.start("load");
   const TriangleMesh mesh = loadRepairMesh(in_path, quiet, "fill-holes");
-  const PatchDictionary::ConstPtr dictionary = loadRepairDictionary(args);
+  const PatchDictionary::ConstPtr dictionary = loadRepairDictionary(args, parameters.grid_size);
 
   timer.start("fill");
   HoleFilling filler;

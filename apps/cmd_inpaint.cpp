@@ -44,9 +44,9 @@ int runInpaint(const std::vector<std::string>& raw)
   const ReportRequest report_request = prepareReport(args);
   StageTimer timer(quiet);
   timer.start("load");
-  const TriangleMesh mesh = loadMesh(in_path, quiet);
+  const TriangleMesh mesh = loadRepairMesh(in_path, quiet, "inpaint");
   const std::vector<int> missing = readIndexFile(args.get("missing"), mesh.numVertices());
-  const PatchDictionary::ConstPtr dictionary = loadRepairDictionary(args);
+  const PatchDictionary::ConstPtr dictionary = loadRepairDictionary(args, parameters.grid_size);
 
   timer.start("inpaint");
   SparsePatchInpainter inpainter;

@@ -14,7 +14,7 @@ namespace cli = pcl::patchdict::cli;
 namespace {
 
 struct Subcommand {
-  std::function<int(const std::vector<std::string>&)> run;  // empty: not available yet
+  std::function<int(const std::vector<std::string>&)> run;
   const char* synopsis;
   const char* what;
 };
@@ -42,13 +42,14 @@ const std::vector<std::pair<std::string, Subcommand>>& subcommands()
                        "reconstruct IN -o OUT [--dict DICT.pdd [--sparsity S]] [--rule bilinear|bin-centres] [--json]",
                        "surface -> patches -> surface round trip (identity, or through a dictionary), scored"}},
       {"compress", {cli::runCompress,
-                    "compress IN --dict DICT.pdd -o OUT.pdc [--quad-length L] [--coefficients S] [--coefficient-bits B] "
-                    "[--position-bits B] [--keep-connectivity] [--no-eval] [--json]",
+                    "compress IN --dict DICT.pdd -o OUT.pdc [--quad-length L] [--patch-scale F] [--coefficients S] "
+                    "[--coefficient-bits B] [--position-bits B] [--overlap K] [--subdivision N] [--smooth-iterations T] "
+                    "[--keep-connectivity [--location-bits B]] [--no-projection] [--samples N] [--no-eval] [--json]",
                     "compress as quad mesh + sparse codes (.pdc); reports bytes per part and PSNR"}},
-      {"decompress", {cli::runDecompress, "decompress IN.pdc --dict DICT.pdd -o OUT [--ref REF] [--json]",
+      {"decompress", {cli::runDecompress, "decompress IN.pdc --dict DICT.pdd -o OUT [--ref REF [--samples N]] [--json]",
                       "decode a .pdc file (with the dictionary it was encoded with)"}},
       {"denoise", {cli::runDenoise, "denoise IN [--dict DICT.pdd | --self-similar | --no-patches] -o OUT [--noise S] [--report DIR [--ref REF]] [--json]",
-                   "denoise: Taubin base (discrepancy principle), corrected by a patch dictionary"}},
+                   "denoise: Taubin smoothing (iterations by the discrepancy principle); with --dict or --self-similar, corrected by patches"}},
       {"inpaint", {cli::runInpaint, "inpaint IN --missing IDX.txt [--dict DICT.pdd | --no-patches] -o OUT [--quad-length L] [--report DIR [--ref REF]] [--json]",
                    "recover missing vertices"}},
       {"fill-holes", {cli::runFillHoles, "fill-holes IN [--dict DICT.pdd | --no-patches] -o OUT [--surface auto|smooth|relief] [--max-hole-edges E] [--max-hole-diameter D] [--absolute] [--report DIR [--ref REF]] [--json]",
@@ -64,7 +65,7 @@ int cli::runHelp(const std::vector<std::string>&)
   std::cout << "pcl_patchdict — repair and compress 3D surfaces with learned dictionaries of height-map patches\n\n"
                "usage: pcl_patchdict COMMAND [ARGS] [OPTIONS]\n\ncommands:\n";
   for (const auto& [name, command] : subcommands())
-    std::printf("  %s\n      %s%s\n", command.synopsis, command.what, command.run ? "" : " (not in this version yet)");
+    std::printf("  %s\n      %s\n", command.synopsis, command.what);
   std::cout << "  help\n      this text\n\n"
                "common options: --threads T, --seed X, --json (one JSON object on stdout), --quiet (no progress on stderr)\n"
                "formats: PLY (ascii/binary), OBJ, OFF, STL meshes; PCD and face-less PLY clouds\n";
@@ -82,10 +83,6 @@ int main(int argc, char** argv)
     for (const auto& [command_name, command] : subcommands()) {
       if (command_name != name)
         continue;
-      if (!command.run) {
-        std::cerr << "pcl_patchdict: '" << name << "' is not available in this version yet\n";
-        return 2;
-      }
       return command.run(args);
     }
     std::cerr << "pcl_patchdict: unknown command '" << name << "' (see 'pcl_patchdict help')\n";

@@ -60,11 +60,11 @@ void readRepairOptions(const Arguments& args, SparsePatchInpainter::Parameters& 
   parameters.seed = static_cast<std::uint64_t>(args.getInt("seed", 0, 0, (1LL << 62)));
 }
 
-PatchDictionary::ConstPtr loadRepairDictionary(const Arguments& args)
+PatchDictionary::ConstPtr loadRepairDictionary(const Arguments& args, int grid_size)
 {
   if (!args.has("dict"))
     return nullptr;
-  return PatchDictionary::load(args.get("dict"), static_cast<int>(args.getInt("grid", 0, 0, 256)));
+  return PatchDictionary::load(args.get("dict"), grid_size);
 }
 
 ReportRequest prepareReport(const Arguments& args)

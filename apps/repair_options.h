@@ -35,8 +35,8 @@ struct ReportRequest {
   * parsed and before any work, so that a report that cannot be made fails the command before its
   * output exists, and a command-line error leaves no folder behind. */
 ReportRequest prepareReport(const Arguments& args);
-/** --dict D (checked against --grid), or null. */
-PatchDictionary::ConstPtr loadRepairDictionary(const Arguments& args);
+/** --dict D (checked against the grid of --grid, `grid_size`; 0: any), or null. */
+PatchDictionary::ConstPtr loadRepairDictionary(const Arguments& args, int grid_size);
 /** The pictures (and with a reference the error colouring, red at --error-scale, default the 99th
   * percentile) of repair_report.h when a report was asked for; an empty object otherwise. */
 JsonObject reportIfAsked(const ReportRequest& request, const TriangleMesh& before, const TriangleMesh& after,

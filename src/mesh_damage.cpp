@@ -119,8 +119,12 @@ std::vector<int> pickMissingVertices(const TriangleMesh& mesh, double fraction, 
 
 TriangleMesh addNormalNoise(const TriangleMesh& mesh, double sigma, std::uint64_t seed)
 {
-  const std::vector<Eigen::Vector3d> normals = computeVertexNormals(mesh);
+  if (!(sigma >= 0.0) || !std::isfinite(sigma))
+    throw Error("the noise level must be a finite σ ≥ 0");
   TriangleMesh out = mesh;
+  if (sigma == 0.0)  // std::normal_distribution needs σ > 0
+    return out;
+  const std::vector<Eigen::Vector3d> normals = computeVertexNormals(mesh);
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> gaussian(0.0, sigma);
   for (std::size_t v = 0; v < out.vertices.size(); ++v)

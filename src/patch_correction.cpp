@@ -75,8 +75,8 @@ double bilinearHeight(const Eigen::Ref<const Eigen::VectorXd>& heights, int n, d
 {
   const double gx = std::clamp((u + 0.5 * side) / side * n - 0.5, 0.0, static_cast<double>(n - 1));
   const double gy = std::clamp((v + 0.5 * side) / side * n - 0.5, 0.0, static_cast<double>(n - 1));
-  const int i0 = std::min(static_cast<int>(gx), n - 2 < 0 ? 0 : n - 2);
-  const int j0 = std::min(static_cast<int>(gy), n - 2 < 0 ? 0 : n - 2);
+  const int i0 = std::min(static_cast<int>(gx), n - 2);  // n ≥ 2 (checked with the parameters)
+  const int j0 = std::min(static_cast<int>(gy), n - 2);
   const double fx = gx - i0, fy = gy - j0;
   const auto h = [&](int i, int j) { return heights(static_cast<Eigen::Index>(j) * n + i); };
   return (1 - fy) * ((1 - fx) * h(i0, j0) + fx * h(i0 + 1, j0)) + fy * ((1 - fx) * h(i0, j0 + 1) + fx * h(i0 + 1, j0 + 1));
@@ -128,21 +128,15 @@ double PatchCorrection::quadLength(const TriangleMesh& normalised_mesh, const Pa
 PatchSet PatchCorrection::trainingPatches(const TriangleMesh& clean_mesh, const PatchCorrectionParameters& parameters,
                                           int grid_size)
 {
-  checkParameters(parameters);
+  // The observed patches of a fully observed mesh: the same layout, L and side as a repair's.
   TriangleMesh mesh = clean_mesh;
   UnitCubeNormalization::fromMesh(mesh).apply(mesh);
-  const double quad_length = quadLength(mesh, parameters);
-  PatchLayout layout;
-  computePatchLayout(mesh, layoutParameters(parameters, quad_length), layout);
-  HeightMapPatchExtractor extractor;
-  extractor.setSeeds(layout.seeds, layout.frames);
-  extractor.setInputMesh(mesh);
-  extractor.setRadius(parameters.patch_scale * quad_length / std::sqrt(2.0));
-  extractor.setGridSize(grid_size);
-  extractor.setNumberOfThreads(parameters.num_threads);
-  PatchSet patches;
-  extractor.compute(patches);
-  return patches;
+  PatchCorrectionParameters training = parameters;
+  training.grid_size = grid_size;
+  PatchCorrection correction;
+  correction.setEstimate(mesh);
+  correction.setParameters(training);
+  return correction.observedPatches();
 }
 
 PatchDictionary::ConstPtr PatchCorrection::learnSelfSimilar(const Eigen::MatrixXd& usable_heights,
@@ -220,34 +214,35 @@ std::vector<PatchSet> PatchCorrection::observedPatchesAtScales(const std::vector
   r.patches = layout.seeds.size();
   r.seconds_layout = secondsSince(t);
 
-  // 2. Height maps of the observed surface.
+  // 2. Height maps of the observed surface (the extractor keeps its own copy of it).
   t = Clock::now();
-  TriangleMesh observed;
-  observed.vertices = estimate.vertices;
+  HeightMapPatchExtractor extractor;
   if (observed_surface_) {
-    observed = *observed_surface_;
+    extractor.setInputMesh(*observed_surface_);
   } else if (observed_faces_.empty()) {
-    observed.faces = estimate.faces;
+    extractor.setInputMesh(estimate);
   } else {
+    TriangleMesh observed;
+    observed.vertices = estimate.vertices;
     for (std::size_t f = 0; f < estimate.numFaces(); ++f)
       if (observed_faces_[f])
         observed.faces.push_back(estimate.faces[f]);
+    if (observed.faces.empty())
+      throw Error("no face is observed: there is no surface to fit patches to");
+    extractor.setInputMesh(observed);
   }
-  if (observed.faces.empty())
+  if (observed_surface_ && observed_surface_->faces.empty())
     throw Error("no face is observed: there is no surface to fit patches to");
   const int grid = dictionary_ ? dictionary_->gridSize() : (p.grid_size > 0 ? p.grid_size : 16);
   r.grid_size = grid;
+  extractor.setSeeds(layout.seeds, layout.frames);
+  extractor.setGridSize(grid);
+  extractor.setNumberOfThreads(p.num_threads);
   std::vector<PatchSet> sets;
   for (double scale : patch_scales) {
     if (!(scale > 0.0) || !std::isfinite(scale))
       throw Error("the patch scale must be > 0");
-    const double side = scale * quad_length;
-    HeightMapPatchExtractor extractor;
-    extractor.setSeeds(layout.seeds, layout.frames);
-    extractor.setInputMesh(observed);
-    extractor.setRadius(side / std::sqrt(2.0));
-    extractor.setGridSize(grid);
-    extractor.setNumberOfThreads(p.num_threads);
+    extractor.setRadius(scale * quad_length / std::sqrt(2.0));
     sets.emplace_back();
     extractor.compute(sets.back());
   }
@@ -279,8 +274,8 @@ void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& 
     return;
   const PatchSet patches = observedPatches(&r);
   const int grid = patches.grid_size;
-  const double side = r.patch_side;
-  const double radius = side / std::sqrt(2.0);
+  const double side = patches.side();
+  const double radius = patches.radius;
   const Eigen::Index bins = static_cast<Eigen::Index>(grid) * grid;
   std::vector<std::int32_t> usable;
   std::vector<double> fraction(patches.numPatches(), 0.0);

@@ -1,7 +1,7 @@
 // SparsePatchInpainter (see sparse_patch_inpainter.h): the three repair modes, each a geometric
 // base plus the patch correction of PatchCorrection. Bases: least-squares meshes (Sorkine &
-// Cohen-Or, SMI 2004) for missing vertices, Liepa (SGP 2003) for holes, the noisy input itself for
-// denoising. Patches and dictionaries: Sarkar, Varanasi & Stricker, 3DV 2017, sections 4.3 and 5.3.
+// Cohen-Or, SMI 2004) for missing vertices, Liepa (SGP 2003) for holes, TaubinSmoother (Taubin,
+// SIGGRAPH 1995) for denoising. Patches and dictionaries: Sarkar, Varanasi & Stricker, 3DV 2017, sections 4.3 and 5.3.
 #include <pcl_patchdict/sparse_patch_inpainter.h>
 
 #include <pcl_patchdict/error.h>
@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numeric>
 #include <string>
 
 namespace pcl {
@@ -310,7 +311,6 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
       r.seconds_check = secondsSince(check_start);
       r.relief = p.hole_settings == Parameters::HoleSettings::Relief || best_significant >= p.relief_gain;
       if (r.relief) {
-        r.relief_quad_length = probe.quad_length;
         patch_parameters.quad_length = probe.quad_length;
         patch_parameters.patch_scale = best_scale;
         patch_parameters.overlap = p.relief_overlap;
@@ -369,15 +369,13 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
       ++r.base_iterations;
     }
   }
-  const std::vector<Eigen::Vector3d> base = work.vertices;
   r.seconds_base = secondsSince(t);
   out = input;
   out.normals.clear();
   for (std::size_t v = 0; v < n; ++v)
-    out.vertices[v] = normalization.invert(base[v]);
+    out.vertices[v] = normalization.invert(work.vertices[v]);
   std::vector<std::int32_t> all(n);
-  for (std::size_t v = 0; v < n; ++v)
-    all[v] = static_cast<std::int32_t>(v);
+  std::iota(all.begin(), all.end(), 0);
   r.moved_vertices = n;
   if (!use_patches_)
     return;

@@ -158,7 +158,7 @@ TEST(Cli, DemoRepairsTheBundledMeshWithAndWithoutPatches)
   const auto result = runTool("demo --json --seed 5 --no-pictures --out " + q(dir.file("demo")));
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const double edge_1e3 = 1e3 * jsonNumber(result.out, "mean_edge");
-  // Measured (seed 1): missing 1.538 / 1.537, holes 1.002 / 1.001, noise 4.75 → 2.09 (base) / 2.73
+  // Measured (seed 5): missing 1.506 / 1.506, holes 0.604 / 0.595, noise 4.71 → 2.08 (base) / 2.55
   // (self-similar patches), mean edge 9.4 (all ×1e-3). Bounds: broken stages land far outside.
   const double bilaplacian = jsonNumber(result.out, "missing_bilaplacian_error");
   EXPECT_LT(bilaplacian, 0.25 * edge_1e3);
@@ -175,12 +175,13 @@ TEST(Cli, DemoRepairsTheBundledMeshWithAndWithoutPatches)
   const double noisy = jsonNumber(result.out, "noisy_error");
   EXPECT_NEAR(noisy / edge_1e3, 0.5, 0.03);  // σ = 0.5 × mean edge along the normals
   EXPECT_LT(jsonNumber(result.out, "denoise_taubin_error"), 0.6 * noisy);
-  EXPECT_LT(jsonNumber(result.out, "denoise_patches_error"), noisy);
+  EXPECT_LT(jsonNumber(result.out, "denoise_patches_error"), 1.5 * jsonNumber(result.out, "denoise_taubin_error"));
   for (const char* name : {"truth.ply", "missing_patches.ply", "holes_liepa.ply", "holes_patches.ply",
                            "denoise_taubin.ply"})
     EXPECT_TRUE(std::filesystem::exists(dir.file("demo/" + std::string(name)))) << name;
   // Deterministic for a seed (everything before the timings).
   const auto again = runTool("demo --json --seed 5 --no-pictures --out " + q(dir.file("demo2")));
+  ASSERT_EQ(again.exit_code, 0) << again.err;
   const auto head = [](const std::string& out) { return out.substr(0, out.find("\"seconds\"")); };
   EXPECT_EQ(head(again.out).substr(head(again.out).find("\"missing_vertices\"")),
             head(result.out).substr(head(result.out).find("\"missing_vertices\"")));

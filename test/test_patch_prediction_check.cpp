@@ -1,12 +1,12 @@
 // checkPatchPrediction: a relief is predictable from its own patches, white noise is not, and too
 // little evidence gives no verdict.
+#include <pcl_patchdict/mesh_damage.h>
 #include <pcl_patchdict/patch_correction.h>
 #include <pcl_patchdict/patch_prediction_check.h>
 #include <pcl_patchdict/shapes.h>
 
 #include <gtest/gtest.h>
 
-#include <random>
 
 using namespace pcl::patchdict;
 
@@ -14,12 +14,9 @@ namespace {
 
 PatchSet reliefPatches(double noise, std::uint64_t seed)
 {
-  TriangleMesh relief = makeSinusoidalRelief(80, 80, noise > 0.0 ? 0.0 : 0.02, 0.15);
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> gaussian(0.0, noise);
-  if (noise > 0.0)
-    for (auto& v : relief.vertices)
-      v.z() += gaussian(rng);
+  // A relief without noise, or a plane with noise along its normal (z) and nothing to predict.
+  const TriangleMesh relief =
+      addNormalNoise(makeSinusoidalRelief(80, 80, noise > 0.0 ? 0.0 : 0.02, 0.15), noise, seed);
   PatchCorrectionParameters parameters;
   parameters.quad_length = 0.12;
   return PatchCorrection::trainingPatches(relief, parameters, 16);

@@ -40,7 +40,8 @@ HoleFillScore scoreHoleFill(const TriangleMesh& truth, const HoledMesh& holed, c
   * vertices used by a face. Throws Error unless 0 < fraction < 1. */
 std::vector<int> pickMissingVertices(const TriangleMesh& mesh, double fraction, std::uint64_t seed);
 
-/** \brief The mesh with each vertex moved by N(0, σ²) along its (area-weighted) normal, seeded. */
+/** \brief The mesh with each vertex moved by N(0, σ²) along its (angle-weighted) vertex normal, seeded; σ = 0
+  * returns the mesh, a negative or non-finite σ is an Error. */
 TriangleMesh addNormalNoise(const TriangleMesh& mesh, double sigma, std::uint64_t seed);
 
 }  // namespace patchdict

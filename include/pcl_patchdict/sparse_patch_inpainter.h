@@ -27,8 +27,10 @@ namespace patchdict {
   *    hole; the new vertices move by a displacement δ minimising Σ|Lδ|² + μ·Σ w (n·(x0+δ − p))²
   *    (δ = 0 on the input vertices, so a hole without constraints keeps Liepa's fill). L is at
   *    least hole_quad_factor × the median diameter of the filled holes: a patch must see the rim.
-  *    Measured: on relief (a sinusoid, the generated sole) self-similar patches with μ = 10 cut
-  *    Liepa's error by 40–50 %; on smooth scans every μ > 0 tried is worse than Liepa alone.
+  *    Measured (docs/hole_size_sweep.csv): on relief (sole, knurl, tiles) self-similar patches
+  *    with the relief settings leave 0.25–0.50 of Liepa's error for holes of radius 0.02–0.07
+  *    (0.36–0.81 at 0.01); on smooth scans no μ tried moves the result beyond the draw-to-draw
+  *    spread around Liepa (a few per cent either way).
   *  - Denoise: every patch coded to the error target ε = error_factor × σ (σ: the noise level
   *    given, or estimated from the normal component of the umbrella vectors) or with `sparsity`
   *    atoms; each vertex moves to the weighted least-squares point of its patches' tangent planes
@@ -57,7 +59,8 @@ public:
     /// predicts a hidden disc (relief_probe_radius × the median hole diameter d, at most 0.3 × the
     /// patch side) better than a biharmonic fill, for patch sides relief_probe_factors × d on one
     /// layout; gain ≥ relief_gain with a margin ≥ relief_min_improvement → the relief settings at
-    /// the best side. Measured gains: smooth scans 0.71–1.06, sole/knurl/tiles 1.49–7.5. Smooth
+    /// the best side. Measured gains: smooth scans 0.67–1.09 (harness holes of radius 0.02 and
+    /// 0.035 on boot, demosthenes, max_planck, lucy), sole/knurl/tiles 1.49–7.5. Smooth
     /// keeps the parameters as given; Relief forces the relief settings.
     enum class HoleSettings { Auto, Smooth, Relief };
     HoleSettings hole_settings = HoleSettings::Auto;
@@ -98,7 +101,6 @@ public:
     HoleFilling::Report holes;         ///< holes mode: what Liepa's filling did
     bool relief = false;               ///< holes mode: the relief settings were used
     double relief_gain = 0.0;          ///< holes mode: best significant gain of the check (else best gain; 0: not run)
-    double relief_quad_length = 0.0;   ///< holes mode: the L of the relief layout (patch side: patches.patch_side)
     double seconds_check = 0.0;
     PatchCorrectionReport patches;     ///< the patch stage
     double mean_correction = 0.0;      ///< mean |x − base| over the moved vertices (normalised)
@@ -108,8 +110,9 @@ public:
   SparsePatchInpainter() = default;
 
   /** The measured defaults of a mode (the Parameters' own defaults are the missing-vertex ones):
-    * Holes: μ 0.1, fit_scale 0.02 (harness holes 0.035, self-similar: below Liepa on boot,
-    * demosthenes, max_planck and lucy, both metrics); Denoise: quad_length_factor 6, sparsity 20. */
+    * Holes: μ 0.1, fit_scale 0.02 (harness holes 0.035, self-similar: within 1.2 % of Liepa on
+    * boot, demosthenes, max_planck and lucy — a tie; larger μ was worse); Denoise:
+    * quad_length_factor 6, sparsity 20. */
   static Parameters defaultParameters(Mode mode);
 
   void setInputMesh(const TriangleMesh& mesh) { input_ = std::make_shared<const TriangleMesh>(mesh); }
