@@ -82,16 +82,6 @@ double bilinearHeight(const Eigen::Ref<const Eigen::VectorXd>& heights, int n, d
   return (1 - fy) * ((1 - fx) * h(i0, j0) + fx * h(i0 + 1, j0)) + fy * ((1 - fx) * h(i0, j0 + 1) + fx * h(i0 + 1, j0 + 1));
 }
 
-PatchLayoutParameters layoutParameters(const PatchCorrectionParameters& p, double quad_length)
-{
-  PatchLayoutParameters layout;
-  layout.quad_length = quad_length;
-  layout.overlap = p.overlap;
-  layout.smoothing_iterations = p.smoothing_iterations;
-  layout.seed = p.seed;
-  layout.num_threads = p.num_threads;
-  return layout;
-}
 
 int threadCount(int requested) { return requested > 0 ? requested : omp_get_max_threads(); }
 
@@ -117,6 +107,17 @@ void PatchCorrection::checkParameters(const PatchCorrectionParameters& p)
   if ((p.grid_size != 0 && (p.grid_size < 2 || p.grid_size > 256)) || p.self_similar_atoms < 1 ||
       p.self_similar_iterations < 1)
     throw Error("bad self-similar dictionary parameters");
+}
+
+PatchLayoutParameters PatchCorrection::layoutParameters(const PatchCorrectionParameters& p, double quad_length)
+{
+  PatchLayoutParameters layout;
+  layout.quad_length = quad_length;
+  layout.overlap = p.overlap;
+  layout.smoothing_iterations = p.smoothing_iterations;
+  layout.seed = p.seed;
+  layout.num_threads = p.num_threads;
+  return layout;
 }
 
 double PatchCorrection::quadLength(const TriangleMesh& normalised_mesh, const PatchCorrectionParameters& parameters)
@@ -209,8 +210,15 @@ std::vector<PatchSet> PatchCorrection::observedPatchesAtScales(const std::vector
   auto t = Clock::now();
   const double quad_length = quadLength(estimate, p);
   r.quad_length = quad_length;
-  PatchLayout layout;
-  computePatchLayout(estimate, layoutParameters(p, quad_length), layout);
+  PatchLayout computed;
+  if (layout_) {
+    if (std::abs(layout_->quad_length - quad_length) > 1e-12 * quad_length)
+      throw Error("patch correction: the layout given was made at L = " + std::to_string(layout_->quad_length) +
+                  ", the correction's L is " + std::to_string(quad_length));
+  } else {
+    computePatchLayout(estimate, layoutParameters(p, quad_length), computed);
+  }
+  const PatchLayout& layout = layout_ ? *layout_ : computed;
   r.patches = layout.seeds.size();
   r.seconds_layout = secondsSince(t);
 

@@ -117,11 +117,20 @@ void computePatchLayout(const TriangleMesh& surface, const PatchLayoutParameters
     throw Error(message.str());
   }
 
-  t = Clock::now();
+  out.quad_length = parameters.quad_length;
+  reseedPatchLayout(surface, parameters.overlap, out);
+}
+
+void reseedPatchLayout(const TriangleMesh& surface, int overlap, PatchLayout& out)
+{
+  using Clock = std::chrono::steady_clock;
+  const auto t = Clock::now();
   QuadFrameEstimation frames;
   frames.setInputQuadMesh(out.quads);
-  frames.setOverlap(parameters.overlap);
+  frames.setOverlap(overlap);
   frames.compute(out.seeds, out.frames, &out.seed_faces);
+  out.mean_seed_shift = 0.0;
+  out.coverage_seeds = 0;
   if (!surface.faces.empty()) {
     // The quads lie on the coarse shape, which smoothing moved off the input (Laplacian
     // smoothing shrinks); patches are sampled from the input, so centre them on it.
@@ -133,9 +142,9 @@ void computePatchLayout(const TriangleMesh& surface, const PatchLayoutParameters
       seed = on_surface;
     }
     out.mean_seed_shift = out.seeds.empty() ? 0.0 : moved / static_cast<double>(out.seeds.size());
-    out.coverage_seeds = addCoverageSeeds(surface, parameters.quad_length, out);
+    out.coverage_seeds = addCoverageSeeds(surface, out.quad_length, out);
   }
-  out.seconds_frames = since(t);
+  out.seconds_frames = std::chrono::duration<double>(Clock::now() - t).count();
 }
 
 }  // namespace patchdict

@@ -67,10 +67,13 @@ std::vector<std::vector<PointToPlaneConstraint>> patchConstraints(const Triangle
                                                                   const PatchDictionary::ConstPtr& dictionary,
                                                                   const PatchCorrectionParameters& parameters,
                                                                   PatchCorrectionReport& report,
-                                                                  const TriangleMesh* observed_surface = nullptr)
+                                                                  const TriangleMesh* observed_surface = nullptr,
+                                                                  const PatchLayout* layout = nullptr)
 {
   PatchCorrection correction;
   correction.setEstimate(estimate);
+  if (layout)
+    correction.setLayout(*layout);
   correction.setObservedFaces(observed_faces);
   if (observed_surface)
     correction.setObservedSurface(*observed_surface);
@@ -273,6 +276,7 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
 
     // Relief or smooth surface? Measured, not assumed: can the dictionary predict a hidden disc of
     // the holes' size from the intact patches better than a biharmonic fill can?
+    PatchLayout probe_layout;
     if (p.hole_settings != Parameters::HoleSettings::Smooth && median_diameter > 0.0) {
       const auto check_start = Clock::now();
       // One layout at the smallest probe's L; the larger probes widen the patches on its seeds.
@@ -282,11 +286,13 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
       std::vector<double> scales;
       for (double factor : p.relief_probe_factors)
         scales.push_back(factor / p.relief_probe_factors.front());
+      computePatchLayout(work, PatchCorrection::layoutParameters(probe, probe.quad_length), probe_layout);
       PatchCorrection correction;
       correction.setEstimate(work);
       correction.setObservedFaces(observed);
       correction.setDictionary(dictionary);
       correction.setParameters(probe);
+      correction.setLayout(probe_layout);
       const std::vector<PatchSet> sets = correction.observedPatchesAtScales(scales);
       double best_scale = 1.0, best_significant = 0.0, best_any = 0.0;
       for (std::size_t i = 0; i < sets.size(); ++i) {
@@ -316,10 +322,12 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
         patch_parameters.overlap = p.relief_overlap;
         patch_parameters.fit_scale = 0.0;
         patch_parameters.agreement_scale = 0.0;
+        // The probe's coarse shape and quads, reseeded at the relief overlap, not made again.
+        reseedPatchLayout(work, p.relief_overlap, probe_layout);
       }
     }
-    const auto constraints =
-        patchConstraints(work, observed, new_vertices, dictionary, patch_parameters, r.patches);
+    const auto constraints = patchConstraints(work, observed, new_vertices, dictionary, patch_parameters, r.patches,
+                                              nullptr, r.relief ? &probe_layout : nullptr);
     r.seconds_patch_stage = secondsSince(t);
 
     // Displacement form: δ = 0 on the input vertices, constraints n·(δ − (p − x0)) = 0.

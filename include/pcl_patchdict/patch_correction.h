@@ -4,6 +4,7 @@
 
 #include <pcl_patchdict/patch_constrained_solve.h>
 #include <pcl_patchdict/patch_dictionary.h>
+#include <pcl_patchdict/patch_layout.h>
 #include <pcl_patchdict/patch_set.h>
 #include <pcl_patchdict/triangle_mesh.h>
 
@@ -90,6 +91,12 @@ public:
   void setTargets(const std::vector<std::int32_t>& targets) { targets_ = targets; }
   void setDictionary(const PatchDictionary::ConstPtr& dictionary) { dictionary_ = dictionary; }
   void setParameters(const PatchCorrectionParameters& parameters) { parameters_ = parameters; }
+  /** A layout of the estimate made before (computePatchLayout with layoutParameters at this
+    * correction's L, possibly reseeded at another overlap): used instead of computing one again.
+    * Its L must be this correction's (Error otherwise). Not copied: it must outlive the calls. */
+  void setLayout(const PatchLayout& layout) { layout_ = &layout; }
+  /** The layout parameters a correction with these parameters uses at quad length L. */
+  static PatchLayoutParameters layoutParameters(const PatchCorrectionParameters& parameters, double quad_length);
   const PatchCorrectionParameters& getParameters() const { return parameters_; }
 
   /** constraints[i]: those of targets[i]. Throws Error for an unset or empty estimate, flags of
@@ -126,6 +133,7 @@ private:
   const TriangleMesh* estimate_ = nullptr;
   std::vector<bool> observed_faces_;
   const TriangleMesh* observed_surface_ = nullptr;
+  const PatchLayout* layout_ = nullptr;
   std::vector<std::int32_t> targets_;
   PatchDictionary::ConstPtr dictionary_;
   PatchCorrectionParameters parameters_;

@@ -36,6 +36,7 @@ struct PatchLayout {
   QuadRemesher::Report quad_report;
   std::size_t coverage_seeds = 0;  ///< seeds added where no quad's patch reaches (seed_faces −1)
   double mean_seed_shift = 0.0;  ///< mean distance the seeds moved from the quads onto the input
+  double quad_length = 0.0;  ///< the L the quads were made at
   double seconds_coarse = 0.0, seconds_quads = 0.0, seconds_frames = 0.0;
 };
 
@@ -47,6 +48,11 @@ struct PatchLayout {
   * the lattice's rare holes) get seeds of their own (see PatchLayout::coverage_seeds). Throws Error from any stage, and when the quad mesh
   * comes out with fewer than 6 faces (L too large for the shape). */
 void computePatchLayout(const TriangleMesh& surface, const PatchLayoutParameters& parameters, PatchLayout& out);
+
+/** \brief The last stage of computePatchLayout again, at another overlap level: seeds, frames, their
+  * move onto the surface and the coverage seeds, on the layout's own quads (the coarse shape and
+  * the quad mesh — most of the cost — are kept). Throws Error for an overlap outside [0, 16]. */
+void reseedPatchLayout(const TriangleMesh& surface, int overlap, PatchLayout& layout);
 
 }  // namespace patchdict
 }  // namespace pcl
