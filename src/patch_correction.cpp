@@ -314,11 +314,12 @@ void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& 
   r.seconds_dictionary = secondsSince(t);
 
   // Sparse codes: masked OMP over the observed bins, stopping at `sparsity` atoms or, with an error
-  // target, once the residual over the observed bins is within ε rms (fully observed patches are
-  // coded by Batch-OMP, the others by masked OMP with the budget of their typical observed count).
+  // target, once the residual over each patch's observed bins is within ε rms (fully observed
+  // patches are coded by Batch-OMP, the others by masked OMP).
   t = Clock::now();
   SparseCodingParameters coding;
   coding.max_atoms = std::min<int>(p.sparsity, r.atoms);
+  coding.max_squared_error_per_entry = p.error_per_bin * p.error_per_bin;  // rms ≤ ε over each patch's observed bins
   std::vector<Eigen::Index> full, partial;
   for (std::size_t u = 0; u < usable.size(); ++u)
     (usable_mask.col(static_cast<Eigen::Index>(u)).all() ? full : partial).push_back(static_cast<Eigen::Index>(u));
@@ -329,20 +330,12 @@ void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& 
       return;
     Eigen::MatrixXd heights(bins, static_cast<Eigen::Index>(columns.size()));
     ObservationMask mask(bins, static_cast<Eigen::Index>(columns.size()));
-    std::vector<Eigen::Index> counts;
     for (std::size_t i = 0; i < columns.size(); ++i) {
       heights.col(static_cast<Eigen::Index>(i)) = usable_heights.col(columns[i]);
       mask.col(static_cast<Eigen::Index>(i)) = usable_mask.col(columns[i]);
-      counts.push_back(mask.col(static_cast<Eigen::Index>(i)).count());
     }
-    SparseCodingParameters parameters = coding;
-    if (p.error_per_bin > 0.0) {
-      std::nth_element(counts.begin(), counts.begin() + static_cast<std::ptrdiff_t>(counts.size() / 2), counts.end());
-      parameters.max_squared_error =
-          p.error_per_bin * p.error_per_bin * static_cast<double>(counts[counts.size() / 2]);
-    }
-    const PatchCodes codes = masked ? dictionary->encodeMasked(heights, mask, parameters)
-                                    : dictionary->encode(heights, parameters);
+    const PatchCodes codes = masked ? dictionary->encodeMasked(heights, mask, coding)
+                                    : dictionary->encode(heights, coding);
     const Eigen::MatrixXd decoded = dictionary->decode(codes);
     for (std::size_t i = 0; i < columns.size(); ++i)
       filled.col(columns[i]) = decoded.col(static_cast<Eigen::Index>(i));

@@ -83,8 +83,8 @@ struct Workspace {
 // `usable` excludes atoms (masked atoms with no energy on the observed rows).
 template <typename Gram>
 void ompKernel(Gram& gram, const Eigen::Ref<const Eigen::VectorXd>& alpha0, double signal_squared_norm,
-               const SparseCodingParameters& parameters, const std::vector<char>* usable, Workspace& work,
-               std::vector<int>& atoms, std::vector<double>& coefficients)
+               Eigen::Index entries, const SparseCodingParameters& parameters, const std::vector<char>* usable,
+               Workspace& work, std::vector<int>& atoms, std::vector<double>& coefficients)
 {
   const int num_atoms = static_cast<int>(alpha0.size());
   const int max_atoms = std::min(parameters.max_atoms, num_atoms);
@@ -93,7 +93,9 @@ void ompKernel(Gram& gram, const Eigen::Ref<const Eigen::VectorXd>& alpha0, doub
   if (max_atoms <= 0)
     return;
   work.reserve(num_atoms, max_atoms);
-  const bool error_stop = parameters.max_squared_error > 0.0;
+  const double budget = std::max(parameters.max_squared_error,
+                                 parameters.max_squared_error_per_entry * static_cast<double>(entries));
+  const bool error_stop = budget > 0.0;
   auto& lower = work.lower;
   auto& selected = work.selected;
   work.alpha = alpha0;
@@ -102,7 +104,7 @@ void ompKernel(Gram& gram, const Eigen::Ref<const Eigen::VectorXd>& alpha0, doub
   const double tiny = 1e-12 * std::sqrt(std::max(signal_squared_norm, 1e-300));
 
   for (int n = 0; n < max_atoms; ++n) {
-    if (error_stop && residual <= parameters.max_squared_error)
+    if (error_stop && residual <= budget)
       break;
     int best = -1;
     double best_value = tiny;
@@ -160,7 +162,7 @@ void checkParameters(const SparseCodingParameters& parameters)
 {
   if (parameters.max_atoms < 0)
     throw Error("sparse coding: the number of atoms per signal must not be negative");
-  if (!(parameters.max_squared_error >= 0.0))
+  if (!(parameters.max_squared_error >= 0.0) || !(parameters.max_squared_error_per_entry >= 0.0))
     throw Error("sparse coding: the error target must be a non-negative number");
 }
 
@@ -193,7 +195,7 @@ void batchOMPSingle(const Eigen::MatrixXd& gram, const Eigen::VectorXd& correlat
   checkParameters(parameters);
   FullGram access{gram};
   Workspace work;
-  ompKernel(access, correlations, signal_squared_norm, parameters, nullptr, work, atoms, coefficients);
+  ompKernel(access, correlations, signal_squared_norm, 0, parameters, nullptr, work, atoms, coefficients);
 }
 
 SparseCodes batchOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& gram, const Eigen::MatrixXd& signals,
@@ -221,7 +223,7 @@ SparseCodes batchOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& g
 #pragma omp for schedule(dynamic, 16)
       for (Eigen::Index i = 0; i < size; ++i) {
         const Eigen::Index p = start + i;
-        ompKernel(access, correlations.col(i), signals.col(p).squaredNorm(), parameters, nullptr, work,
+        ompKernel(access, correlations.col(i), signals.col(p).squaredNorm(), signals.rows(), parameters, nullptr, work,
                   atoms[static_cast<std::size_t>(p)], coefficients[static_cast<std::size_t>(p)]);
       }
     }
@@ -300,7 +302,8 @@ SparseCodes maskedOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& 
         correlations = correlations.cwiseProduct(inverse);
         auto& chosen = atoms[static_cast<std::size_t>(p)];
         auto& values = coefficients[static_cast<std::size_t>(p)];
-        ompKernel(access, correlations, observed.squaredNorm(), parameters, &usable, work, chosen, values);
+        ompKernel(access, correlations, observed.squaredNorm(), observed_count, parameters, &usable, work, chosen,
+                  values);
         for (std::size_t i = 0; i < chosen.size(); ++i)  // back to the un-normalised atoms
           values[i] *= inverse[chosen[i]];
       }
@@ -347,7 +350,8 @@ SparseCodes maskedOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& 
         LazyMaskedGram access(dictionary, dictionary_t, full_gram, hidden, observed, inverse, std::max(1, max_atoms));
         auto& chosen = atoms[static_cast<std::size_t>(p)];
         auto& values = coefficients[static_cast<std::size_t>(p)];
-        ompKernel(access, alpha0, block_signals.col(i).squaredNorm(), parameters, &usable, work, chosen, values);
+        ompKernel(access, alpha0, block_signals.col(i).squaredNorm(), n - static_cast<Eigen::Index>(hidden.size()),
+                  parameters, &usable, work, chosen, values);
         for (std::size_t j = 0; j < chosen.size(); ++j)
           values[j] *= inverse[chosen[j]];
       }

@@ -203,3 +203,47 @@ TEST(SparseCoding, FullMaskEqualsPlainOMP)
   const Eigen::MatrixXd b = maskedOMP(dictionary, signals, mask, {4, 0.0});
   EXPECT_NEAR((a - b).norm(), 0.0, 1e-9);
 }
+
+TEST(SparseCoding, PerEntryErrorTargetScalesWithTheObservedEntries)
+{
+  // A per-entry target ε² is the budget ε² × (observed entries) of each signal: the same codes as
+  // the absolute target computed signal by signal, for full signals and for masked ones.
+  std::mt19937_64 rng(21);
+  const Eigen::MatrixXd dictionary = randomDictionary(64, 40, rng);
+  const Eigen::MatrixXd gram = dictionary.transpose() * dictionary;
+  std::vector<std::set<int>> supports;
+  Eigen::MatrixXd signals = sparseSignals(dictionary, 30, 10, rng, supports);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  for (Eigen::Index i = 0; i < signals.size(); ++i)
+    signals.data()[i] += noise(rng);
+  Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> mask(64, 30);
+  std::bernoulli_distribution keep(0.6);
+  for (Eigen::Index i = 0; i < mask.size(); ++i)
+    mask.data()[i] = keep(rng);
+  const double per_entry = 0.02 * 0.02;
+  SparseCodingParameters relative;
+  relative.max_atoms = 30;
+  relative.max_squared_error_per_entry = per_entry;
+  const SparseCodes full = batchOMP(dictionary, gram, signals, relative);
+  const SparseCodes masked = maskedOMP(dictionary, signals, mask, relative);
+  std::size_t differing_budgets = 0;
+  for (Eigen::Index p = 0; p < signals.cols(); ++p) {
+    SparseCodingParameters absolute;
+    absolute.max_atoms = 30;
+    absolute.max_squared_error = per_entry * 64;
+    const SparseCodes one = batchOMP(dictionary, gram, signals.col(p), absolute);
+    EXPECT_LT((Eigen::VectorXd(full.col(p)) - Eigen::VectorXd(one.col(0))).norm(), 1e-9) << p;
+    const Eigen::Index observed = mask.col(p).count();
+    absolute.max_squared_error = per_entry * static_cast<double>(observed);
+    const SparseCodes one_masked = maskedOMP(dictionary, signals.col(p), mask.col(p), absolute);
+    EXPECT_LT((Eigen::VectorXd(masked.col(p)) - Eigen::VectorXd(one_masked.col(0))).norm(), 1e-9) << p;
+    differing_budgets += observed != 64;
+  }
+  EXPECT_GT(differing_budgets, 20u);
+  // And the budget binds: the masked codes stop earlier than with the full-length budget's
+  // per-entry share ignored (absolute ε² × 64 on every signal).
+  SparseCodingParameters loose;
+  loose.max_atoms = 30;
+  loose.max_squared_error = per_entry * 64;
+  EXPECT_LT(maskedOMP(dictionary, signals, mask, loose).nonZeros(), masked.nonZeros());
+}

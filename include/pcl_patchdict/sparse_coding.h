@@ -12,10 +12,13 @@ namespace pcl {
 namespace patchdict {
 
 /** When to stop adding atoms: after max_atoms, or once the squared residual norm (over the
-  * observed entries) is at most max_squared_error — whichever comes first. */
+  * observed entries) is at most the error budget — whichever comes first. The budget of a signal
+  * is max(max_squared_error, max_squared_error_per_entry × its observed entries): a per-entry
+  * target keeps the rms residual per entry the same for signals observed on fewer entries. */
 struct SparseCodingParameters {
   int max_atoms = 8;
   double max_squared_error = 0.0;
+  double max_squared_error_per_entry = 0.0;
 };
 
 /** Codes of many signals: one column per signal, atoms as rows (K × P). */
@@ -35,7 +38,8 @@ SparseCodes maskedOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& 
                       const SparseCodingParameters& parameters);
 
 /** Single-signal Batch-OMP on Dᵀx = correlations, xᵀx = signal_squared_norm. Appends the chosen
-  * atoms and their coefficients. Exposed for the learners and the tests. */
+  * atoms and their coefficients; max_squared_error_per_entry does not apply (the signal's length
+  * is not known here). Exposed for the learners and the tests. */
 void batchOMPSingle(const Eigen::MatrixXd& gram, const Eigen::VectorXd& correlations, double signal_squared_norm,
                     const SparseCodingParameters& parameters, std::vector<int>& atoms,
                     std::vector<double>& coefficients);
