@@ -3,6 +3,7 @@
 
 #include <pcl_patchdict/error.h>
 #include <pcl_patchdict/metrics.h>
+#include <pcl_patchdict/mesh_hygiene.h>
 #include <pcl_patchdict/mesh_topology.h>
 #include <pcl_patchdict/vertex_normals.h>
 
@@ -20,35 +21,34 @@ HoledMesh punchHoles(const TriangleMesh& mesh, int count, double radius, std::ui
   if (count < 1 || !(radius > 0.0) || !std::isfinite(radius))
     throw Error("holes: the count must be ≥ 1 and the radius > 0");
   const std::size_t n = mesh.numVertices();
+  std::vector<bool> in_face(n, false);
+  for (const Face& f : mesh.faces)
+    for (std::int32_t v : f)
+      in_face[static_cast<std::size_t>(v)] = true;
   std::vector<std::int32_t> used;
-  {
-    std::vector<bool> in_face(n, false);
-    for (const Face& f : mesh.faces)
-      for (std::int32_t v : f)
-        in_face[static_cast<std::size_t>(v)] = true;
-    for (std::size_t v = 0; v < n; ++v)
-      if (in_face[v])
-        used.push_back(static_cast<std::int32_t>(v));
-  }
+  for (std::size_t v = 0; v < n; ++v)
+    if (in_face[v])
+      used.push_back(static_cast<std::int32_t>(v));
   // A hole that reaches the mesh's rim is a bite out of the rim, not a hole: centres keep 2 radii
   // from every boundary vertex.
-  std::vector<Eigen::Vector3d> rim;
+  std::vector<bool> on_rim(n, false);
   for (const MeshEdge& e : computeEdgeFaceAdjacency(mesh).edges)
-    if (e.isBoundary()) {
-      rim.push_back(mesh.vertices[static_cast<std::size_t>(e.v0)]);
-      rim.push_back(mesh.vertices[static_cast<std::size_t>(e.v1)]);
-    }
+    if (e.isBoundary())
+      on_rim[static_cast<std::size_t>(e.v0)] = on_rim[static_cast<std::size_t>(e.v1)] = true;
+  std::vector<Eigen::Vector3d> rim;
+  for (std::size_t v = 0; v < n; ++v)
+    if (on_rim[v])
+      rim.push_back(mesh.vertices[v]);
   std::mt19937_64 rng(seed);
   std::shuffle(used.begin(), used.end(), rng);
   HoledMesh out;
   for (std::int32_t v : used) {
     const Eigen::Vector3d& p = mesh.vertices[static_cast<std::size_t>(v)];
-    bool far = true;
-    for (const auto& r : rim)
-      far = far && (p - r).norm() >= 2.0 * radius;
-    for (const auto& c : out.centres)
-      far = far && (p - c).norm() >= 4.0 * radius;
-    if (far)
+    const auto within = [&p](const std::vector<Eigen::Vector3d>& points, double distance) {
+      return std::any_of(points.begin(), points.end(),
+                         [&](const Eigen::Vector3d& q) { return (p - q).norm() < distance; });
+    };
+    if (!within(rim, 2.0 * radius) && !within(out.centres, 4.0 * radius))
       out.centres.push_back(p);
     if (static_cast<int>(out.centres.size()) == count)
       break;
@@ -58,30 +58,19 @@ HoledMesh punchHoles(const TriangleMesh& mesh, int count, double radius, std::ui
     for (const auto& c : out.centres)
       if ((mesh.vertices[v] - c).norm() <= radius)
         near[v] = true;
-  std::vector<bool> kept(n, false);
-  std::vector<Face> faces;
+  out.mesh.vertices = mesh.vertices;
   for (const Face& f : mesh.faces)
     if (!near[static_cast<std::size_t>(f[0])] && !near[static_cast<std::size_t>(f[1])] &&
-        !near[static_cast<std::size_t>(f[2])]) {
-      faces.push_back(f);
-      for (std::int32_t v : f)
-        kept[static_cast<std::size_t>(v)] = true;
-    }
-  std::vector<std::int32_t> new_index(n, -1);
-  for (std::size_t v = 0; v < n; ++v) {
-    if (kept[v]) {
-      new_index[v] = static_cast<std::int32_t>(out.mesh.vertices.size());
-      out.mesh.vertices.push_back(mesh.vertices[v]);
-      out.original_index.push_back(static_cast<std::int32_t>(v));
-    } else {
+        !near[static_cast<std::size_t>(f[2])])
+      out.mesh.faces.push_back(f);
+  MeshCleanupOptions unreferenced_only;
+  unreferenced_only.remove_degenerate_faces = unreferenced_only.remove_duplicate_faces = false;
+  const MeshCleanupResult cleaned = cleanMesh(out.mesh, unreferenced_only);
+  out.original_index.assign(cleaned.new_to_old.begin(), cleaned.new_to_old.end());
+  // Removed: on the surface before (in a face), not now; vertices the input never used are not.
+  for (std::size_t v = 0; v < n; ++v)
+    if (in_face[v] && cleaned.old_to_new[v] < 0)
       out.removed.push_back(static_cast<std::int32_t>(v));
-    }
-  }
-  for (Face f : faces) {
-    for (auto& v : f)
-      v = new_index[static_cast<std::size_t>(v)];
-    out.mesh.faces.push_back(f);
-  }
   return out;
 }
 

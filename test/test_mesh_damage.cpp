@@ -59,3 +59,35 @@ TEST(MeshDamage, MissingFractionAndNormalNoiseAreAsAsked)
   EXPECT_NEAR(std::sqrt(sum / static_cast<double>(sphere.numVertices())), 0.01, 0.0005);  // 2562 draws
   EXPECT_LT(tangential, 1e-3);  // area-weighted normals of the icosphere are close to radial
 }
+
+TEST(MeshDamage, HolesKeepAwayFromTheRimAndCountOnlySurfaceVertices)
+{
+  // An open 60 × 60 grid plus one vertex no face uses: centres at least 2 radii from the rim, the
+  // lone vertex never counted as removed, every removed vertex within the radius of a centre.
+  TriangleMesh grid = makePlaneGrid(60, 60);
+  grid.vertices.emplace_back(0.5, 0.5, 0.3);
+  const double radius = 0.05;
+  const HoledMesh holed = punchHoles(grid, 6, radius, 3);
+  ASSERT_EQ(holed.centres.size(), 6u);
+  for (const auto& c : holed.centres)
+    EXPECT_GE(std::min({c.x(), c.y(), 1.0 - c.x(), 1.0 - c.y()}), 2.0 * radius - 1e-12);
+  const auto lone = static_cast<std::int32_t>(grid.numVertices() - 1);
+  EXPECT_EQ(std::count(holed.removed.begin(), holed.removed.end(), lone), 0);
+  EXPECT_FALSE(holed.removed.empty());
+  const double spacing = 1.0 / 59.0;
+  for (const std::int32_t v : holed.removed) {
+    double nearest = 1e9;
+    for (const auto& c : holed.centres)
+      nearest = std::min(nearest, (grid.vertices[static_cast<std::size_t>(v)] - c).norm());
+    EXPECT_LE(nearest, radius + 1.5 * spacing) << v;  // in a removed face: within a face of the disc
+  }
+  EXPECT_EQ(holed.original_index.size() + holed.removed.size() + 1, grid.numVertices());
+}
+
+TEST(MeshDamage, NoiseOfZeroIsTheMeshAndANegativeSigmaIsAnError)
+{
+  const TriangleMesh sphere = makeIcosphere(2);
+  EXPECT_TRUE(addNormalNoise(sphere, 0.0, 1).vertices == sphere.vertices);
+  EXPECT_THROW(addNormalNoise(sphere, -0.1, 1), Error);
+  EXPECT_THROW(addNormalNoise(sphere, std::nan(""), 1), Error);
+}

@@ -16,7 +16,7 @@ namespace patchdict {
 struct HoledMesh {
   TriangleMesh mesh;                        ///< the holed mesh (unreferenced vertices dropped)
   std::vector<std::int32_t> original_index; ///< per vertex of `mesh`, its index in the input
-  std::vector<std::int32_t> removed;        ///< input vertices no longer in `mesh`
+  std::vector<std::int32_t> removed;        ///< input vertices a face used that `mesh` no longer has
   std::vector<Eigen::Vector3d> centres;
 };
 
