@@ -1,4 +1,6 @@
 #include <pcl_patchdict/coarse_mesh_estimation.h>
+
+#include <pcl_patchdict/taubin_smoothing.h>
 #include <pcl_patchdict/error.h>
 #include <pcl_patchdict/mesh_hygiene.h>
 #include <pcl_patchdict/mesh_topology.h>
@@ -96,32 +98,12 @@ void CoarseMeshEstimation::smooth(const TriangleMesh& input, TriangleMesh& out, 
     if (!input.vertices[v].allFinite())
       throw Error("coarse mesh estimation: vertex " + std::to_string(v) + " is not finite");
 
-  const std::size_t n = input.vertices.size();
-  const std::vector<std::vector<std::int32_t>> ring = computeSmoothingNeighbours(input);
-
   TriangleMesh mesh = input;
-  std::vector<Eigen::Vector3d> next(n);
-  auto step = [&](double factor) {
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t v = 0; v < static_cast<std::ptrdiff_t>(n); ++v) {
-      const auto& neighbours = ring[static_cast<std::size_t>(v)];
-      const Eigen::Vector3d& x = mesh.vertices[static_cast<std::size_t>(v)];
-      if (neighbours.empty()) {
-        next[static_cast<std::size_t>(v)] = x;
-        continue;
-      }
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      for (const auto w : neighbours)
-        mean += mesh.vertices[static_cast<std::size_t>(w)];
-      mean /= static_cast<double>(neighbours.size());
-      next[static_cast<std::size_t>(v)] = x + factor * (mean - x);
-    }
-    mesh.vertices.swap(next);
-  };
+  const TaubinSmoother smoother(input, lambda_, mu_, TaubinSmoother::Weights::Uniform);
   for (int iteration = 0; iteration < iterations_; ++iteration) {
-    step(lambda_);
+    smoother.step(mesh.vertices, lambda_);
     if (method_ == Method::Taubin)
-      step(mu_);
+      smoother.step(mesh.vertices, mu_);
   }
   if (report) {
     const double before = input.surfaceArea();

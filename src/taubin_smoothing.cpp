@@ -11,7 +11,8 @@
 namespace pcl {
 namespace patchdict {
 
-TaubinSmoother::TaubinSmoother(const TriangleMesh& mesh, double lambda, double mu) : lambda_(lambda), mu_(mu)
+TaubinSmoother::TaubinSmoother(const TriangleMesh& mesh, double lambda, double mu, Weights weights)
+    : lambda_(lambda), mu_(mu)
 {
   const std::size_t n = mesh.numVertices();
   for (const Face& f : mesh.faces)
@@ -27,14 +28,16 @@ TaubinSmoother::TaubinSmoother(const TriangleMesh& mesh, double lambda, double m
     const auto& chosen = ring[v];
     double total = 0.0;
     const std::size_t first = neighbours_.size();
-    for (std::int32_t w : chosen) {
-      const double weight = 1.0 / ((mesh.vertices[static_cast<std::size_t>(w)] - mesh.vertices[v]).norm() + 1e-12);
-      neighbours_.push_back(w);
-      weights_.push_back(weight);
-      total += weight;
+    neighbours_.insert(neighbours_.end(), chosen.begin(), chosen.end());
+    if (weights == Weights::InverseDistance) {
+      for (std::int32_t w : chosen) {
+        const double weight = 1.0 / ((mesh.vertices[static_cast<std::size_t>(w)] - mesh.vertices[v]).norm() + 1e-12);
+        weights_.push_back(weight);
+        total += weight;
+      }
+      for (std::size_t i = first; i < weights_.size(); ++i)
+        weights_[i] /= total;
     }
-    for (std::size_t i = first; i < weights_.size(); ++i)
-      weights_[i] /= total;
     offsets_[v + 1] = static_cast<std::int64_t>(neighbours_.size());
   }
 }
@@ -54,8 +57,15 @@ void TaubinSmoother::step(std::vector<Eigen::Vector3d>& positions, double factor
       continue;
     }
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (std::int64_t k = offsets_[v]; k < offsets_[v + 1]; ++k)
-      mean += weights_[static_cast<std::size_t>(k)] * positions[static_cast<std::size_t>(neighbours_[static_cast<std::size_t>(k)])];
+    if (weights_.empty()) {
+      for (std::int64_t k = offsets_[v]; k < offsets_[v + 1]; ++k)
+        mean += positions[static_cast<std::size_t>(neighbours_[static_cast<std::size_t>(k)])];
+      mean /= static_cast<double>(offsets_[v + 1] - offsets_[v]);
+    } else {
+      for (std::int64_t k = offsets_[v]; k < offsets_[v + 1]; ++k)
+        mean += weights_[static_cast<std::size_t>(k)] *
+                positions[static_cast<std::size_t>(neighbours_[static_cast<std::size_t>(k)])];
+    }
     next[v] = positions[v] + factor * (mean - positions[v]);
   }
   positions.swap(next);

@@ -20,18 +20,26 @@ namespace patchdict {
   * (re-weighted each step) at its best iteration count: 2.929, 1.376, 3.398. */
 class TaubinSmoother {
 public:
+  /** InverseDistance: w_ij = 1/|x_i − x_j| (the denoising base); Uniform: the plain mean of the
+    * neighbours (the classic umbrella operator of CoarseMeshEstimation). */
+  enum class Weights { InverseDistance, Uniform };
+
   /** Throws Error for face indices out of range or non-finite vertices. */
-  explicit TaubinSmoother(const TriangleMesh& mesh, double lambda = 0.5, double mu = -0.53);
+  explicit TaubinSmoother(const TriangleMesh& mesh, double lambda = 0.5, double mu = -0.53,
+                          Weights weights = Weights::InverseDistance);
 
   /** One λ step and one μ step on `positions` (one per vertex of the constructor's mesh). */
   void iterate(std::vector<Eigen::Vector3d>& positions) const;
 
-private:
+  /** One step x ← x + factor·(weighted mean of the neighbours − x); Laplacian smoothing is this
+    * step with factor λ alone. */
   void step(std::vector<Eigen::Vector3d>& positions, double factor) const;
+
+private:
 
   std::vector<std::int64_t> offsets_;      // CSR rows: neighbours of vertex v in [offsets_[v], offsets_[v + 1])
   std::vector<std::int32_t> neighbours_;
-  std::vector<double> weights_;            // normalised per row
+  std::vector<double> weights_;            // normalised per row; empty for uniform weights
   double lambda_, mu_;
 };
 
