@@ -11,13 +11,16 @@
 #include <pcl_patchdict/patch_mesh_reconstruction.h>
 #include <pcl_patchdict/vertex_normals.h>
 
+#include "point_conversion.h"
+
+#include <pcl/kdtree/kdtree_flann.h>
+
 #include <omp.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
-#include <unordered_map>
 
 namespace pcl {
 namespace patchdict {
@@ -26,48 +29,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-/** Seeds bucketed in a uniform grid of cell `cell` for ball queries. */
-class SeedGrid {
-public:
-  SeedGrid(const std::vector<Eigen::Vector3d>& points, double cell) : points_(points), cell_(cell)
-  {
-    for (std::size_t i = 0; i < points.size(); ++i)
-      cells_[key(cellOf(points[i]))].push_back(static_cast<std::int32_t>(i));
-  }
-  /** Indices of the points within `radius` (≤ cell) of q, increasing. */
-  void query(const Eigen::Vector3d& q, double radius, std::vector<std::int32_t>& out) const
-  {
-    out.clear();
-    const Eigen::Vector3i c = cellOf(q);
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          const auto it = cells_.find(key(c + Eigen::Vector3i(dx, dy, dz)));
-          if (it == cells_.end())
-            continue;
-          for (std::int32_t i : it->second)
-            if ((points_[static_cast<std::size_t>(i)] - q).squaredNorm() <= radius * radius)
-              out.push_back(i);
-        }
-    std::sort(out.begin(), out.end());
-  }
-
-private:
-  Eigen::Vector3i cellOf(const Eigen::Vector3d& p) const
-  {
-    return Eigen::Vector3i(static_cast<int>(std::floor(p.x() / cell_)), static_cast<int>(std::floor(p.y() / cell_)),
-                           static_cast<int>(std::floor(p.z() / cell_)));
-  }
-  static std::int64_t key(const Eigen::Vector3i& c)
-  {
-    return ((static_cast<std::int64_t>(c.x()) & 0x1FFFFF) << 42) | ((static_cast<std::int64_t>(c.y()) & 0x1FFFFF) << 21) |
-           (static_cast<std::int64_t>(c.z()) & 0x1FFFFF);
-  }
-  const std::vector<Eigen::Vector3d>& points_;
-  double cell_;
-  std::unordered_map<std::int64_t, std::vector<std::int32_t>> cells_;
-};
 
 /** Bilinear height of an N×N patch column at frame coordinates (u, v); bin centres as in
   * HeightMapPatchExtractor, clamped at the border bins. */
@@ -364,7 +325,10 @@ void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& 
   std::vector<Eigen::Vector3d> usable_seeds(usable.size());
   for (std::size_t u = 0; u < usable.size(); ++u)
     usable_seeds[u] = patches.seeds[static_cast<std::size_t>(usable[u])];
-  const SeedGrid seed_grid(usable_seeds, radius);
+  // The reconstruction's search: FLANN in float with a widened radius, then the exact test.
+  pcl::KdTreeFLANN<pcl::PointXYZ> seed_tree;
+  seed_tree.setInputCloud(detail::toCloudXYZ(usable_seeds));
+  const float search_radius = detail::floatSearchRadius(radius);
   const double edge = std::max(r.mean_edge_length, 1e-12);
   const double sigma = p.centre_sigma * 0.5 * side;
   // A target facing away from a patch's Z is on another sheet (a thin wall's far side): the
@@ -374,11 +338,13 @@ void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& 
   for (std::ptrdiff_t ti = 0; ti < static_cast<std::ptrdiff_t>(targets_.size()); ++ti) {
     const std::int32_t v = targets_[static_cast<std::size_t>(ti)];
     const Eigen::Vector3d x0 = estimate.vertices[static_cast<std::size_t>(v)];
-    std::vector<std::int32_t> near;
-    seed_grid.query(x0, radius, near);
+    std::vector<int> near;
+    std::vector<float> squared_distances;
+    seed_tree.radiusSearch(detail::toPointXYZ(x0), search_radius, near, squared_distances);
+    std::sort(near.begin(), near.end());  // FLANN's order is not specified
     std::vector<PointToPlaneConstraint>& list = constraints[static_cast<std::size_t>(ti)];
     std::vector<double> offsets;  // d = n·(x0 − p): the correction each patch asks for
-    for (std::int32_t u : near) {
+    for (const int u : near) {
       const std::size_t k = static_cast<std::size_t>(usable[static_cast<std::size_t>(u)]);
       const Eigen::Matrix3d& rotation = patches.rotations[k];
       Eigen::Vector3d local;
