@@ -331,6 +331,16 @@ void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& 
   const float search_radius = detail::floatSearchRadius(radius);
   const double edge = std::max(r.mean_edge_length, 1e-12);
   const double sigma = p.centre_sigma * 0.5 * side;
+  // The per-patch parts of the confidence (observed fraction, fit), once per patch, not per target.
+  std::vector<double> observed_weight(usable.size(), 1.0), fit_divisor(usable.size(), 1.0);
+  for (std::size_t u = 0; u < usable.size(); ++u) {
+    if (p.observed_power > 0.0)
+      observed_weight[u] = std::pow(fraction[static_cast<std::size_t>(usable[u])], p.observed_power);
+    if (p.fit_scale > 0.0) {
+      const double q = fit_rms[u] / (p.fit_scale * edge);
+      fit_divisor[u] = 1.0 + q * q;
+    }
+  }
   // A target facing away from a patch's Z is on another sheet (a thin wall's far side): the
   // patch sampled the sheet facing it (the same membership test as the reconstruction's).
   const std::vector<Eigen::Vector3d> normals = computeVertexNormals(estimate);
@@ -370,11 +380,9 @@ void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& 
       if (sigma > 0.0)
         w *= std::exp(-0.5 * (local.x() * local.x() + local.y() * local.y()) / (sigma * sigma));
       if (p.observed_power > 0.0)
-        w *= std::pow(fraction[k], p.observed_power);
-      if (p.fit_scale > 0.0) {
-        const double q = fit_rms[static_cast<std::size_t>(u)] / (p.fit_scale * edge);
-        w /= 1.0 + q * q;
-      }
+        w *= observed_weight[static_cast<std::size_t>(u)];
+      if (p.fit_scale > 0.0)
+        w /= fit_divisor[static_cast<std::size_t>(u)];
       c.weight = w;
       offsets.push_back(c.normal.dot(x0 - c.point));
       list.push_back(c);

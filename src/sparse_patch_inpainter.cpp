@@ -42,8 +42,14 @@ void checkParameters(const SparsePatchInpainter::Parameters& p)
     throw Error("the error factor must be ≥ 0");
   if (!(p.fidelity > 0.0) || !std::isfinite(p.fidelity))
     throw Error("the fidelity weight must be > 0");
-  if (!(p.relief_gain > 0.0) || !(p.relief_constraint_weight >= 0.0) || p.relief_overlap < 0 ||
-      p.relief_probe_factors.empty())
+  if (p.base_iterations < -1 || p.max_base_iterations < 0)
+    throw Error("base iterations must be ≥ 0 (−1: by the discrepancy principle), their maximum ≥ 0");
+  if (!(p.discrepancy > 0.0) || !std::isfinite(p.discrepancy))
+    throw Error("the discrepancy factor must be > 0");
+  if (!(p.relief_gain > 0.0) || !std::isfinite(p.relief_gain) || !(p.relief_constraint_weight >= 0.0) ||
+      !std::isfinite(p.relief_constraint_weight) || p.relief_overlap < 0 || p.relief_probe_factors.empty() ||
+      !(p.relief_probe_radius > 0.0) || !std::isfinite(p.relief_probe_radius) ||
+      !(p.relief_min_improvement >= 0.0) || !std::isfinite(p.relief_min_improvement))
     throw Error("bad relief settings");
   for (double factor : p.relief_probe_factors)
     if (!(factor > 0.0) || !std::isfinite(factor))

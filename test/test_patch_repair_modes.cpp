@@ -232,6 +232,19 @@ TEST(PatchRepairModes, BadParametersAndInputsAreErrors)
   parameters.error_factor = -1.0;
   inpainter.setParameters(parameters);
   EXPECT_THROW(inpainter.process(out), Error);
+  // A NaN discrepancy factor would otherwise run the maximum iteration count silently.
+  parameters = SparsePatchInpainter::Parameters();
+  parameters.discrepancy = std::nan("");
+  inpainter.setParameters(parameters);
+  EXPECT_THROW(inpainter.process(out), Error);
+  parameters = SparsePatchInpainter::Parameters();
+  parameters.base_iterations = -2;
+  inpainter.setParameters(parameters);
+  EXPECT_THROW(inpainter.process(out), Error);
+  parameters = SparsePatchInpainter::Parameters();
+  parameters.relief_probe_radius = 0.0;
+  inpainter.setParameters(parameters);
+  EXPECT_THROW(inpainter.process(out), Error);
 }
 
 TEST(PatchRepairModes, DenoiseCommandKeepsTheMeshReportsJsonAndFailsInOneLine)
