@@ -9,7 +9,6 @@
 // ratio removed→out (patches / Liepa).
 #include <pcl_patchdict/mesh_damage.h>
 #include <pcl_patchdict/mesh_io.h>
-#include <pcl_patchdict/metrics.h>
 #include <pcl_patchdict/normalization.h>
 #include <pcl_patchdict/sparse_patch_inpainter.h>
 

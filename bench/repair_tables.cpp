@@ -41,6 +41,8 @@ Result missingCase(const TriangleMesh& truth, const std::vector<int>& missing, b
   for (int v : missing)
     damaged.vertices[static_cast<std::size_t>(v)] = Eigen::Vector3d::Zero();
   SparsePatchInpainter inpainter;
+  inpainter.setMode(SparsePatchInpainter::Mode::MissingVertices);
+  inpainter.setParameters(SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::MissingVertices));
   inpainter.setInputMesh(damaged);
   inpainter.setMissingVertices(missing);
   inpainter.setUsePatches(patches);
