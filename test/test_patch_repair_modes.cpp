@@ -145,6 +145,19 @@ TEST(PatchRepairModes, ASmoothSurfaceKeepsTheSmoothSettings)
   for (std::size_t v = sphere.numVertices(); v < out.numVertices(); ++v)
     worst = std::max(worst, std::abs(out.vertices[v].norm() - 1.0));
   EXPECT_LT(worst, 0.05 * makeIcosphere(5).meanEdgeLength());
+
+  // The forced settings: Smooth skips the check, Relief takes the relief settings whatever it says.
+  SparsePatchInpainter::Parameters forced = SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes);
+  forced.hole_settings = SparsePatchInpainter::Parameters::HoleSettings::Smooth;
+  inpainter.setParameters(forced);
+  inpainter.process(out, &report);
+  EXPECT_FALSE(report.relief);
+  EXPECT_EQ(report.relief_gain, 0.0);  // not run
+  forced.hole_settings = SparsePatchInpainter::Parameters::HoleSettings::Relief;
+  inpainter.setParameters(forced);
+  inpainter.process(out, &report);
+  EXPECT_TRUE(report.relief);
+  EXPECT_GT(report.relief_gain, 0.0);
 }
 
 TEST(PatchRepairModes, NoiseEstimateFindsTheNoiseOnASphere)
