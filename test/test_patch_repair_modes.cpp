@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <random>
 
 using namespace pcl::patchdict;
@@ -236,28 +237,27 @@ TEST(PatchRepairModes, BadParametersAndInputsAreErrors)
   bad.vertices[3].x() = std::nan("");
   inpainter.setInputMesh(bad);
   EXPECT_THROW(inpainter.process(out), Error);
-  inpainter.setInputMesh(makeIcosphere(2));
-  SparsePatchInpainter::Parameters parameters;
-  parameters.fidelity = 0.0;
-  inpainter.setParameters(parameters);
-  EXPECT_THROW(inpainter.process(out), Error);
-  parameters = SparsePatchInpainter::Parameters();
-  parameters.error_factor = -1.0;
-  inpainter.setParameters(parameters);
-  EXPECT_THROW(inpainter.process(out), Error);
-  // A NaN discrepancy factor would otherwise run the maximum iteration count silently.
-  parameters = SparsePatchInpainter::Parameters();
-  parameters.discrepancy = std::nan("");
-  inpainter.setParameters(parameters);
-  EXPECT_THROW(inpainter.process(out), Error);
-  parameters = SparsePatchInpainter::Parameters();
-  parameters.base_iterations = -2;
-  inpainter.setParameters(parameters);
-  EXPECT_THROW(inpainter.process(out), Error);
-  parameters = SparsePatchInpainter::Parameters();
-  parameters.relief_probe_radius = 0.0;
-  inpainter.setParameters(parameters);
-  EXPECT_THROW(inpainter.process(out), Error);
+  const TriangleMesh sphere = makeIcosphere(2);
+  inpainter.setInputMesh(sphere);
+  inpainter.setUsePatches(false);  // the Taubin base alone: a good parameter set must run (checked last)
+  // Each a bad value of one parameter; a NaN discrepancy factor, for one, would otherwise run the
+  // maximum iteration count silently.
+  const std::vector<std::function<void(SparsePatchInpainter::Parameters&)>> bad_values = {
+      [](auto& p) { p.fidelity = 0.0; },          [](auto& p) { p.error_factor = -1.0; },
+      [](auto& p) { p.discrepancy = std::nan(""); }, [](auto& p) { p.base_iterations = -2; },
+      [](auto& p) { p.relief_probe_radius = 0.0; }};
+  for (std::size_t i = 0; i < bad_values.size(); ++i) {
+    SparsePatchInpainter::Parameters parameters;
+    bad_values[i](parameters);
+    inpainter.setParameters(parameters);
+    EXPECT_THROW(inpainter.process(out), Error) << "case " << i;
+  }
+  inpainter.setParameters(SparsePatchInpainter::Parameters());
+  try {
+    inpainter.process(out);  // the same inpainter with good values runs
+  } catch (const Error& e) {
+    ADD_FAILURE() << e.what();
+  }
 }
 
 TEST(PatchRepairModes, DenoiseCommandKeepsTheMeshReportsJsonAndFailsInOneLine)
