@@ -28,25 +28,19 @@ const char* const kUsage =
 
 int runDenoise(const std::vector<std::string>& raw)
 {
-  auto value_options = commonValueOptions();
-  value_options.insert({"output", "noise", "noise-edges", "error-factor", "fidelity", "base-iterations", "discrepancy"});
-  value_options.insert(repairValueOptions().begin(), repairValueOptions().end());
-  auto flag_options = commonFlagOptions();
-  flag_options.insert({"no-patches", "self-similar"});
-  const Arguments args(raw, value_options, flag_options);
-  args.expectPositionals(1, 1, kUsage);
-  if (!args.has("output"))
-    throw UsageError("usage: " + std::string(kUsage));
+  const RepairCommandLine line = parseRepairCommand(
+      raw, kUsage, {"noise", "noise-edges", "error-factor", "fidelity", "base-iterations", "discrepancy"},
+      {"self-similar"}, true);
+  const Arguments& args = line.args;
   if (args.has("self-similar") && (args.has("dict") || args.has("no-patches")))
     throw UsageError("--self-similar excludes --dict and --no-patches");
   if (args.has("noise") && args.has("noise-edges"))
     throw UsageError("--noise and --noise-edges exclude each other");
   if (args.has("mu"))
     throw UsageError("--mu weighs the patch constraints of inpaint and fill-holes; denoise's is --fidelity");
-  applyCommonOptions(args);
-  const bool quiet = args.has("quiet") || args.has("json");
-  const std::string in_path = args.positionals()[0], out_path = args.get("output");
-  checkRepairOutput(out_path, in_path, true);
+  const bool quiet = line.quiet;
+  const std::string& in_path = line.in_path;
+  const std::string& out_path = line.out_path;
   SparsePatchInpainter::Parameters parameters =
       SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Denoise);
   readRepairOptions(args, parameters);

@@ -28,22 +28,15 @@ const char* kUsage =
 
 int runFillHoles(const std::vector<std::string>& raw)
 {
-  auto value_options = commonValueOptions();
-  value_options.insert({"output", "max-hole-edges", "max-hole-diameter", "hole-factor", "surface"});
-  value_options.insert(repairValueOptions().begin(), repairValueOptions().end());
-  auto flag_options = commonFlagOptions();
-  flag_options.insert({"no-patches", "absolute"});
-  const Arguments args(raw, value_options, flag_options);
-  args.expectPositionals(1, 1, kUsage);
-  if (!args.has("output"))
-    throw UsageError("usage: " + std::string(kUsage));
-  applyCommonOptions(args);
-  const bool quiet = args.has("quiet") || args.has("json");
+  const RepairCommandLine line = parseRepairCommand(
+      raw, kUsage, {"max-hole-edges", "max-hole-diameter", "hole-factor", "surface"}, {"absolute"}, false);
+  const Arguments& args = line.args;
+  const bool quiet = line.quiet;
   const auto max_edges = static_cast<std::size_t>(args.getInt("max-hole-edges", 0, 0, 1LL << 40));
   const double max_diameter =
       args.getDouble("max-hole-diameter", std::numeric_limits<double>::infinity(), 0.0, 1e300);
-  const std::string in_path = args.positionals()[0], out_path = args.get("output");
-  checkRepairOutput(out_path, in_path, false);
+  const std::string& in_path = line.in_path;
+  const std::string& out_path = line.out_path;
 
   SparsePatchInpainter::Parameters parameters =
       SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes);

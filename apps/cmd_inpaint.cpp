@@ -24,19 +24,13 @@ const char* const kUsage =
 
 int runInpaint(const std::vector<std::string>& raw)
 {
-  auto value_options = commonValueOptions();
-  value_options.insert({"output", "missing"});
-  value_options.insert(repairValueOptions().begin(), repairValueOptions().end());
-  auto flag_options = commonFlagOptions();
-  flag_options.insert("no-patches");
-  const Arguments args(raw, value_options, flag_options);
-  args.expectPositionals(1, 1, kUsage);
-  if (!args.has("output") || !args.has("missing"))
+  const RepairCommandLine line = parseRepairCommand(raw, kUsage, {"missing"}, {}, true);
+  const Arguments& args = line.args;
+  if (!args.has("missing"))
     throw UsageError("usage: " + std::string(kUsage));
-  applyCommonOptions(args);
-  const bool quiet = args.has("quiet") || args.has("json");
-  const std::string in_path = args.positionals()[0], out_path = args.get("output");
-  checkRepairOutput(out_path, in_path, true);
+  const bool quiet = line.quiet;
+  const std::string& in_path = line.in_path;
+  const std::string& out_path = line.out_path;
   SparsePatchInpainter::Parameters parameters =
       SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::MissingVertices);
   readRepairOptions(args, parameters);

@@ -18,6 +18,29 @@ const std::set<std::string>& repairValueOptions()
   return options;
 }
 
+RepairCommandLine parseRepairCommand(const std::vector<std::string>& raw, const std::string& usage,
+                                     const std::set<std::string>& own_values, const std::set<std::string>& own_flags,
+                                     bool keeps_vertex_order)
+{
+  auto value_options = commonValueOptions();
+  value_options.insert("output");
+  value_options.insert(repairValueOptions().begin(), repairValueOptions().end());
+  value_options.insert(own_values.begin(), own_values.end());
+  auto flag_options = commonFlagOptions();
+  flag_options.insert("no-patches");
+  flag_options.insert(own_flags.begin(), own_flags.end());
+  RepairCommandLine line{Arguments(raw, value_options, flag_options), false, "", ""};
+  line.args.expectPositionals(1, 1, usage);
+  if (!line.args.has("output"))
+    throw UsageError("usage: " + usage);
+  applyCommonOptions(line.args);
+  line.quiet = line.args.has("quiet") || line.args.has("json");
+  line.in_path = line.args.positionals()[0];
+  line.out_path = line.args.get("output");
+  checkRepairOutput(line.out_path, line.in_path, keeps_vertex_order);
+  return line;
+}
+
 void checkRepairOutput(const std::string& out_path, const std::string& in_path, bool keeps_vertex_order)
 {
   refuseOverwritingInput(out_path, in_path);

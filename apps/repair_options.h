@@ -15,6 +15,18 @@ namespace cli {
 
 /** Value options of the patch stage (--quad-length, --sparsity, --mu, ...). */
 const std::set<std::string>& repairValueOptions();
+
+/** The command line every repair command starts with: IN, -o OUT, the common and patch-stage
+  * options plus the command's own, --no-patches; --threads applied, the output checked
+  * (checkRepairOutput). */
+struct RepairCommandLine {
+  Arguments args;
+  bool quiet = false;  ///< --quiet or --json: no progress on stderr
+  std::string in_path, out_path;
+};
+RepairCommandLine parseRepairCommand(const std::vector<std::string>& raw, const std::string& usage,
+                                     const std::set<std::string>& own_values, const std::set<std::string>& own_flags,
+                                     bool keeps_vertex_order);
 /** Refuses an output that would overwrite the input or that is no mesh file; with
   * keeps_vertex_order, also STL (which does not keep vertex order). */
 void checkRepairOutput(const std::string& out_path, const std::string& in_path, bool keeps_vertex_order);
