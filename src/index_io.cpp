@@ -2,9 +2,10 @@
 #include <pcl_patchdict/error.h>
 #include <pcl_patchdict/index_io.h>
 
+#include "io/formats.h"
+
 #include <cerrno>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 
 namespace pcl {
@@ -12,9 +13,12 @@ namespace patchdict {
 
 std::vector<int> readIndexFile(const std::string& path, std::size_t num_vertices)
 {
-  std::ifstream in(path);
-  if (!in)
-    throw Error("cannot open index file '" + path + "'");
+  return parseIndexFile(readWholeFile(path), num_vertices, path);
+}
+
+std::vector<int> parseIndexFile(const std::string& text, std::size_t num_vertices, const std::string& path)
+{
+  std::istringstream in(text);
   std::vector<int> indices;
   std::vector<char> seen(num_vertices, 0);
   std::string line;
@@ -30,10 +34,10 @@ std::vector<int> readIndexFile(const std::string& path, std::size_t num_vertices
     errno = 0;
     char* end = nullptr;
     const long long value = std::strtoll(token.c_str(), &end, 10);
-    if (end == token.c_str() || *end != '\0' || errno == ERANGE)
-      throw Error(where + "'" + token + "' is not an integer vertex index");
+    if (end == token.c_str() || end != token.c_str() + token.size() || errno == ERANGE)
+      throw Error(where + io_detail::quoted(token) + " is not an integer vertex index");
     if (value < 0)
-      throw Error(where + "negative vertex index " + token);
+      throw Error(where + "negative vertex index " + io_detail::quoted(token));
     if (static_cast<unsigned long long>(value) >= num_vertices)
       throw Error(where + "vertex index " + token + " is out of range (the mesh has " +
                   std::to_string(num_vertices) + " vertices)");
@@ -42,8 +46,6 @@ std::vector<int> readIndexFile(const std::string& path, std::size_t num_vertices
     seen[value] = 1;
     indices.push_back(static_cast<int>(value));
   }
-  if (in.bad())
-    throw Error("error while reading index file '" + path + "'");
   return indices;
 }
 

@@ -448,11 +448,20 @@ void PatchCodec::decode(const std::string& bytes, TriangleMesh& out, Report* rep
   reconstruction.setPatches(patches);
   reconstruction.setTargetMesh(target);
   PatchMeshReconstruction::Report reconstruction_report;
-  reconstruction.compute(out, &reconstruction_report);
-  out.normals.clear();
+  TriangleMesh decoded;
+  reconstruction.compute(decoded, &reconstruction_report);
+  decoded.normals.clear();
   if (!c.keep_connectivity)
-    trimUnseen(reconstruction_report.off_surface, out);
-  c.normalization.invert(out);
+    trimUnseen(reconstruction_report.off_surface, decoded);
+  c.normalization.invert(decoded);
+  // Every stored number was range-checked, but extreme yet finite values (a scale of 1e-300, a huge
+  // coefficient step) can still overflow on the way: a decoded surface must be finite.
+  for (const auto& v : decoded.vertices)
+    if (!v.allFinite())
+      throw Error(what + "the decoded surface is not finite (the file is corrupted)");
+  if (decoded.faces.empty())
+    throw Error(what + "the decoded surface is empty (the file is corrupted)");
+  out = std::move(decoded);
   local.seconds_reconstruct = since(t);
   if (report) {
     local.total_bytes = bytes.size();

@@ -237,10 +237,15 @@ void PatchDictionary::save(const std::string& path) const
 
 PatchDictionary::Ptr PatchDictionary::load(const std::string& path, int expected_grid_size)
 {
+  return fromBytes(readWholeFile(path), expected_grid_size, path);
+}
+
+PatchDictionary::Ptr PatchDictionary::fromBytes(const std::string& bytes, int expected_grid_size,
+                                                const std::string& name)
+{
   if (!detail::isLittleEndian())
     throw Error("reading .pdd files needs a little-endian machine");
-  const std::string bytes = readWholeFile(path);
-  const std::string where = "cannot read dictionary '" + path + "': ";
+  const std::string where = "cannot read dictionary '" + name + "': ";
   if (bytes.size() < sizeof(PddHeader) + sizeof(std::uint64_t)) {
     if (bytes.size() >= sizeof kMagic && std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
       throw Error(where + "not a .pdd file");

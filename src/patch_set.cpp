@@ -132,10 +132,14 @@ void PatchSet::save(const std::string& path) const
 
 PatchSet PatchSet::load(const std::string& path)
 {
+  return fromBytes(readWholeFile(path), path);
+}
+
+PatchSet PatchSet::fromBytes(const std::string& bytes, const std::string& name)
+{
   if (!detail::isLittleEndian())
     throw Error("reading .pds files needs a little-endian machine");
-  const std::string bytes = readWholeFile(path);
-  const std::string where = "cannot read patch set '" + path + "': ";
+  const std::string where = "cannot read patch set '" + name + "': ";
   if (bytes.size() >= sizeof kMagic && std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     throw Error(where + "not a .pds file");
   if (bytes.size() < sizeof(PdsHeader) + sizeof(std::uint64_t))

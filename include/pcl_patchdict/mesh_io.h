@@ -32,6 +32,10 @@ struct ReadInfo {
   * with no faces (a cloud). Polygons are fan-triangulated; STL corners with bit-identical positions
   * are merged into one vertex. Normals that are not all finite are dropped, not an error. */
 void readMesh(const std::string& path, TriangleMesh& mesh, ReadInfo* info = nullptr);
+/** The same for a file's bytes held in memory, in the given format (PLY, OBJ, OFF or STL: PCL reads
+  * PCD only from a file, so PCD is an Error here); `name` is what error messages call it. */
+void readMeshFromMemory(const std::string& bytes, MeshFormat format, TriangleMesh& mesh, ReadInfo* info = nullptr,
+                        const std::string& name = "<memory>");
 
 struct WriteOptions {
   /** PLY and STL: binary little-endian (default) or ASCII. PCD: binary or ASCII. */

@@ -69,6 +69,8 @@ public:
   /** Reads a .pdd file; with expected_grid_size > 0, a dictionary of another grid is an error.
     * Truncated, corrupted (checksum) or implausible files are rejected with one clear line. */
   static Ptr load(const std::string& path, int expected_grid_size = 0);
+  /** The same from the bytes of a .pdd file held in memory; `name` is what error messages call it. */
+  static Ptr fromBytes(const std::string& bytes, int expected_grid_size = 0, const std::string& name = "<memory>");
   /** Writes the atoms as a PNG contact sheet (like Fig. 5, left, of the paper). */
   void saveAtomsPNG(const std::string& path, int columns = 20, int pixels_per_bin = 4) const;
 

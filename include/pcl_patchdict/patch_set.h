@@ -46,6 +46,8 @@ struct PatchSet {
     * implausible files are rejected with one clear line (pcl::patchdict::Error), before any
     * allocation larger than the file itself. */
   static PatchSet load(const std::string& path);
+  /** The same from the bytes of a .pds file held in memory; `name` is what error messages call it. */
+  static PatchSet fromBytes(const std::string& bytes, const std::string& name = "<memory>");
   /** Contact sheet of the patches (first `max_patches` of them when > 0), unobserved bins drawn
     * as a checker, `columns` tiles per row. */
   void savePNG(const std::string& path, int columns = 20, int pixels_per_bin = 4, std::size_t max_patches = 0) const;

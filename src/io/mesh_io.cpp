@@ -276,17 +276,15 @@ std::string formatName(MeshFormat format)
   return "unknown";
 }
 
-void readMesh(const std::string& path, TriangleMesh& mesh, ReadInfo* info)
+namespace {
+
+void readBytes(const std::string& path, const std::string& bytes, MeshFormat format, TriangleMesh& mesh,
+               ReadInfo* info)
 {
-  const MeshFormat format = formatFromPath(path);
-  if (format == MeshFormat::Unknown)
-    io_detail::failRead(path, "unknown extension " + io_detail::quoted(lowerExtension(path)) + " (" +
-                                  kSupported + ")");
   ReadInfo local;
   local.format = format;
   TriangleMesh result;
   try {
-    const std::string bytes = readWholeFile(path);
     if (bytes.empty())
       io_detail::failRead(path, "file is empty");
     switch (format) {
@@ -295,7 +293,7 @@ void readMesh(const std::string& path, TriangleMesh& mesh, ReadInfo* info)
     case MeshFormat::OFF: io_detail::readOff(path, bytes, result, local); break;
     case MeshFormat::STL: io_detail::readStl(path, bytes, result, local); break;
     case MeshFormat::PCD: io_detail::readPcd(path, bytes, result, local); break;
-    case MeshFormat::Unknown: break;
+    case MeshFormat::Unknown: io_detail::failRead(path, "unknown format"); break;
     }
   }
   catch (const std::bad_alloc&) {
@@ -309,6 +307,32 @@ void readMesh(const std::string& path, TriangleMesh& mesh, ReadInfo* info)
   mesh = std::move(result);
   if (info)
     *info = local;
+}
+
+}  // namespace
+
+void readMesh(const std::string& path, TriangleMesh& mesh, ReadInfo* info)
+{
+  const MeshFormat format = formatFromPath(path);
+  if (format == MeshFormat::Unknown)
+    io_detail::failRead(path, "unknown extension " + io_detail::quoted(lowerExtension(path)) + " (" +
+                                  kSupported + ")");
+  std::string bytes;
+  try {
+    bytes = readWholeFile(path);
+  }
+  catch (const std::bad_alloc&) {
+    io_detail::failRead(path, "out of memory");
+  }
+  readBytes(path, bytes, format, mesh, info);
+}
+
+void readMeshFromMemory(const std::string& bytes, MeshFormat format, TriangleMesh& mesh, ReadInfo* info,
+                        const std::string& name)
+{
+  if (format == MeshFormat::PCD)
+    io_detail::failRead(name, "PCD data can only be read from a file (PCL's reader takes a path)");
+  readBytes(name, bytes, format, mesh, info);
 }
 
 void writeMesh(const std::string& path, const TriangleMesh& mesh, const WriteOptions& options)

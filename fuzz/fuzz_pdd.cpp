@@ -1,0 +1,20 @@
+// libFuzzer target: the .pdd dictionary reader (PatchDictionary::fromBytes).
+#include "fuzz_common.h"
+
+#include <pcl_patchdict/patch_dictionary.h>
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
+{
+  pcl::patchdict::PatchDictionary::Ptr dictionary;
+  try {
+    dictionary = pcl::patchdict::PatchDictionary::fromBytes(fuzz::withValidChecksum(data, size));
+  }
+  catch (const pcl::patchdict::Error&) {
+    return 0;
+  }
+  const int grid = dictionary->gridSize();
+  if (grid < 1 || dictionary->atoms().rows() != grid * grid || dictionary->atoms().cols() < 1 ||
+      !dictionary->atoms().allFinite())
+    fuzz::fail("an accepted dictionary is inconsistent");
+  return 0;
+}
