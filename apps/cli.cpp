@@ -249,10 +249,20 @@ bool sameFile(const std::string& a, const std::string& b)
   return !error && ca == cb;
 }
 
-void refuseOverwritingInput(const std::string& output, const std::string& input)
+void checkOutputPath(const std::string& output, const std::string& input)
 {
-  if (!output.empty() && sameFile(output, input))
+  if (output.empty())
+    return;
+  if (sameFile(output, input))
     throw Error("the output '" + output + "' is the input file; inputs are never overwritten");
+  // Where the file cannot be written, say so before the work, not after it.
+  const std::filesystem::path path(output);
+  const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+  std::error_code ec;
+  if (!std::filesystem::is_directory(folder, ec))
+    throw Error("cannot write '" + output + "': directory '" + folder.string() + "' does not exist");
+  if (std::filesystem::is_directory(path, ec))
+    throw Error("cannot write '" + output + "': it is a directory");
 }
 
 TriangleMesh loadMesh(const std::string& path, bool quiet, ReadInfo* info)
@@ -273,6 +283,17 @@ TriangleMesh loadMesh(const std::string& path, bool quiet, ReadInfo* info)
     note(false, "  " + inspectMesh(mesh).summary());
   }
   return mesh;
+}
+
+void cleanInputMesh(TriangleMesh& mesh, const std::string& path)
+{
+  if (mesh.faces.empty())
+    return;
+  const std::size_t faces = mesh.faces.size();
+  cleanMesh(mesh);
+  if (mesh.faces.empty())
+    throw Error("'" + path + "': all its " + std::to_string(faces) +
+                " faces are degenerate (zero area or repeated corners): there is no surface to work on");
 }
 
 }  // namespace cli

@@ -84,12 +84,16 @@ private:
 
 /** Reads a mesh with the reader's notes and the hygiene summary printed to stderr (unless quiet). */
 TriangleMesh loadMesh(const std::string& path, bool quiet, ReadInfo* info = nullptr);
+/** cleanMesh() for a mesh that has faces (a cloud is left alone); Error "'path': all its N faces are
+  * degenerate" when none is left, instead of an empty mesh failing later for a reason nobody sees. */
+void cleanInputMesh(TriangleMesh& mesh, const std::string& path);
 
 /** True when both names lead to the same file (an output that would overwrite the input). */
 bool sameFile(const std::string& a, const std::string& b);
 
-/** Throws Error when `output` (if not empty) is the same file as `input`. */
-void refuseOverwritingInput(const std::string& output, const std::string& input);
+/** Throws Error when `output` (if not empty) is the same file as `input`, lies in a directory that
+  * does not exist, or is a directory: checked before any work is done. */
+void checkOutputPath(const std::string& output, const std::string& input);
 
 /** Creates `path` (and its parents) unless it exists; Error "cannot create the <what> folder …". */
 void makeFolder(const std::string& path, const std::string& what);

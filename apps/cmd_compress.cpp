@@ -73,7 +73,7 @@ int runCompress(const std::vector<std::string>& raw)
   parameters.seed = static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62)));
   const auto samples = static_cast<std::size_t>(args.getInt("samples", 200000, 1000, 100000000));
   const std::string input = args.positionals()[0], output = args.get("output");
-  refuseOverwritingInput(output, input);
+  checkOutputPath(output, input);
   if (sameFile(args.get("dict"), output))
     throw UsageError("--dict and -o name the same file");
 
@@ -147,7 +147,7 @@ int runDecompress(const std::vector<std::string>& raw)
   const bool quiet = args.has("quiet") || args.has("json");
   const auto samples = static_cast<std::size_t>(args.getInt("samples", 200000, 1000, 100000000));
   const std::string input = args.positionals()[0], output = args.get("output");
-  refuseOverwritingInput(output, input);
+  checkOutputPath(output, input);
   if (sameFile(args.get("dict"), output))
     throw UsageError("--dict and -o name the same file");
   if (args.has("ref") && sameFile(args.get("ref"), output))

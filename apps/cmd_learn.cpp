@@ -39,6 +39,10 @@ int runLearn(const std::vector<std::string>& raw)
   dictionary.setSeed(static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62))));
   dictionary.setRemoveMean(args.has("remove-mean"));
 
+  for (const std::string& path : args.positionals()) {
+    checkOutputPath(args.get("output"), path);
+    checkOutputPath(args.get("png"), path);
+  }
   StageTimer timer(quiet);
   for (const std::string& path : args.positionals())
     if (formatFromPath(path) != MeshFormat::Unknown)

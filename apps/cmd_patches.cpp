@@ -50,8 +50,8 @@ int runPatches(const std::vector<std::string>& raw)
   const SeedPlacement seed_placement = parseSeedPlacement(args.get("placement", "quads"));
   const auto seed = static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62)));
   const std::string input = args.positionals()[0], output = args.get("output"), png = args.get("png");
-  refuseOverwritingInput(output, input);
-  refuseOverwritingInput(png, input);
+  checkOutputPath(output, input);
+  checkOutputPath(png, input);
   if (!png.empty() && sameFile(png, output))
     throw UsageError("--png and -o name the same file");
 
@@ -59,8 +59,7 @@ int runPatches(const std::vector<std::string>& raw)
   timer.start("load");
   TriangleMesh surface = loadMesh(input, quiet);
   const bool is_cloud = surface.faces.empty();
-  if (!is_cloud)
-    cleanMesh(surface);
+  cleanInputMesh(surface, input);
   const UnitCubeNormalization normalization = UnitCubeNormalization::fromMesh(surface);
   normalization.apply(surface);
 

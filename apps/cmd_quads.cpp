@@ -69,7 +69,7 @@ int runQuads(const std::vector<std::string>& raw)
     throw UsageError("--smoothing must be laplacian or taubin");
   parameters.seed = static_cast<std::uint64_t>(args.getInt("seed", 0, 0, std::numeric_limits<long long>::max()));
   for (const std::string& path : {output, args.get("frames"), args.get("coarse"), args.get("png")})
-    refuseOverwritingInput(path, input);
+    checkOutputPath(path, input);
   // Check the output's format before the work, not after.
   const MeshFormat format = formatFromPath(output);
   if (format != MeshFormat::OBJ && format != MeshFormat::PLY)
@@ -78,8 +78,7 @@ int runQuads(const std::vector<std::string>& raw)
   StageTimer timer(quiet);
   timer.start("read");
   TriangleMesh mesh = loadMesh(input, quiet);
-  if (!mesh.faces.empty())
-    cleanMesh(mesh);
+  cleanInputMesh(mesh, input);
   const UnitCubeNormalization normalization = UnitCubeNormalization::fromMesh(mesh);
   normalization.apply(mesh);
 

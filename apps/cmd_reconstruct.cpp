@@ -61,7 +61,9 @@ int runReconstruct(const std::vector<std::string>& raw)
   const auto samples = static_cast<std::size_t>(args.getInt("samples", 200000, 1000, 100000000));
   const auto seed = static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62)));
   const std::string input = args.positionals()[0], output = args.get("output");
-  refuseOverwritingInput(output, input);
+  checkOutputPath(output, input);
+  if (formatFromPath(output) == MeshFormat::Unknown)
+    throw Error("output '" + output + "' must be a mesh or cloud file (.ply, .obj, .off, .stl, .pcd)");
   if (args.has("dict") && sameFile(args.get("dict"), output))
     throw UsageError("--dict and -o name the same file");
 

@@ -2,6 +2,8 @@
 // on stderr and a non-zero exit: 1 for bad input or a failed run, 2 for a malformed command line.
 #include "cli.h"
 
+#include <pcl_patchdict/atomic_file.h>
+
 #include <cstdio>
 #include <exception>
 #include <functional>
@@ -74,6 +76,7 @@ int cli::runHelp(const std::vector<std::string>&)
 
 int main(int argc, char** argv)
 {
+  pcl::patchdict::removeTemporaryFilesOnInterrupt();
   const std::vector<std::string> all(argv + 1, argv + argc);
   if (all.empty() || all[0] == "help" || all[0] == "--help" || all[0] == "-h")
     return cli::runHelp({});

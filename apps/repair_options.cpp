@@ -43,7 +43,7 @@ RepairCommandLine parseRepairCommand(const std::vector<std::string>& raw, const 
 
 void checkRepairOutput(const std::string& out_path, const std::string& in_path, bool keeps_vertex_order)
 {
-  refuseOverwritingInput(out_path, in_path);
+  checkOutputPath(out_path, in_path);
   const MeshFormat format = formatFromPath(out_path);
   if (keeps_vertex_order && (format == MeshFormat::Unknown || format == MeshFormat::PCD || format == MeshFormat::STL))
     throw Error("output '" + out_path + "' must be a mesh file that keeps vertex order (.ply, .obj, .off)");

@@ -3,6 +3,7 @@
 
 #include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
@@ -53,7 +54,60 @@ void writeNewFile(const std::string& target, const std::string& file_path, const
     failWrite(target, std::strerror(errno));
 }
 
+// Temporary files being written, for the signal handler: fixed slots of atomic pointers (no
+// allocation or lock in the handler; unlink() is async-signal-safe).
+constexpr int kSlots = 64;
+std::atomic<const char*> g_temporaries[kSlots];
+
+/** Registers a temporary file for the lifetime of the object (no slot free: not registered). */
+class TemporaryRegistration {
+public:
+  explicit TemporaryRegistration(const std::string& path) : path_(path)
+  {
+    for (int i = 0; i < kSlots; ++i) {
+      const char* expected = nullptr;
+      if (g_temporaries[i].compare_exchange_strong(expected, path_.c_str())) {
+        slot_ = i;
+        return;
+      }
+    }
+  }
+  ~TemporaryRegistration()
+  {
+    if (slot_ >= 0)
+      g_temporaries[slot_].store(nullptr);
+  }
+  TemporaryRegistration(const TemporaryRegistration&) = delete;
+  TemporaryRegistration& operator=(const TemporaryRegistration&) = delete;
+
+private:
+  std::string path_;
+  int slot_ = -1;
+};
+
+extern "C" void removeTemporariesAndReraise(int signal_number)
+{
+  for (auto& slot : g_temporaries) {
+    const char* path = slot.exchange(nullptr);
+    if (path)
+      ::unlink(path);
+  }
+  std::signal(signal_number, SIG_DFL);
+  std::raise(signal_number);
+}
+
 }  // namespace
+
+void removeTemporaryFilesOnInterrupt()
+{
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+    struct sigaction action {};
+    action.sa_handler = removeTemporariesAndReraise;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESETHAND;
+    ::sigaction(signal_number, &action, nullptr);
+  }
+}
 
 void writeFileAtomically(const std::string& path, const std::function<void(const std::string&)>& write_temporary)
 {
@@ -71,6 +125,7 @@ void writeFileAtomically(const std::string& path, const std::function<void(const
   static std::atomic<unsigned long> counter{0};
   const fs::path temporary = directory / ("." + target.filename().string() + ".tmp." + std::to_string(::getpid()) +
                                           "." + std::to_string(counter++));
+  const TemporaryRegistration registration(temporary.string());
   try {
     write_temporary(temporary.string());
     fs::rename(temporary, target, ec);

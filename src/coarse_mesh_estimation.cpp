@@ -9,6 +9,7 @@
 #include <pcl/search/kdtree.h>
 #include <pcl/surface/poisson.h>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <omp.h>
@@ -125,31 +126,46 @@ void CoarseMeshEstimation::smooth(const TriangleMesh& input, TriangleMesh& out, 
 
 namespace {
 
-/** Points file descriptor 1 at stderr while alive (C and C++ streams flushed at both ends). */
-class StdoutToStderr {
+/** Points file descriptors 1 and 2 at /dev/null while alive (C and C++ streams flushed at both
+  * ends): PoissonRecon inside PCL prints diagnostics ("Vertex pair not in list", "[WARNING] Initial
+  * residual too low", ...) that mean nothing to a user, on stdout (the tool's --json channel) and on
+  * stderr (where an error must be the one last line). Failures surface as our own checks below. */
+class ThirdPartyOutputMuted {
 public:
-  StdoutToStderr()
+  ThirdPartyOutputMuted()
   {
-    std::cout.flush();
-    std::fflush(stdout);
-    saved_ = ::dup(1);
-    if (saved_ >= 0)
-      ::dup2(2, 1);
-  }
-  ~StdoutToStderr()
-  {
-    std::cout.flush();
-    std::fflush(stdout);
-    if (saved_ >= 0) {
-      ::dup2(saved_, 1);
-      ::close(saved_);
+    flushAll();
+    const int null_fd = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+    if (null_fd < 0)
+      return;
+    for (int i = 0; i < 2; ++i) {
+      saved_[i] = ::dup(i + 1);
+      if (saved_[i] >= 0)
+        ::dup2(null_fd, i + 1);
     }
+    ::close(null_fd);
   }
-  StdoutToStderr(const StdoutToStderr&) = delete;
-  StdoutToStderr& operator=(const StdoutToStderr&) = delete;
+  ~ThirdPartyOutputMuted()
+  {
+    flushAll();
+    for (int i = 0; i < 2; ++i)
+      if (saved_[i] >= 0) {
+        ::dup2(saved_[i], i + 1);
+        ::close(saved_[i]);
+      }
+  }
+  ThirdPartyOutputMuted(const ThirdPartyOutputMuted&) = delete;
+  ThirdPartyOutputMuted& operator=(const ThirdPartyOutputMuted&) = delete;
 
 private:
-  int saved_ = -1;
+  static void flushAll()
+  {
+    std::cout.flush();
+    std::cerr.flush();
+    std::fflush(stdout);
+    std::fflush(stderr);
+  }
+  int saved_[2] = {-1, -1};
 };
 
 using Clock = std::chrono::steady_clock;
@@ -390,9 +406,7 @@ void CoarseMeshEstimation::processCloud(TriangleMesh& out, Report* report) const
   poisson.setThreads(1);
   pcl::PolygonMesh polygons;
   {
-    // PCL's Poisson code prints diagnostics ("Vertex pair not in list", …) on stdout, which is the
-    // tool's --json channel: send them to stderr for the duration.
-    const StdoutToStderr redirect;
+    const ThirdPartyOutputMuted muted;
     poisson.reconstruct(polygons);
   }
   TriangleMesh mesh;

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <filesystem>
 
 using namespace pcl::patchdict;
@@ -71,4 +72,42 @@ TEST(AtomicFile, FailsClearlyWithoutTouchingAnything)
   EXPECT_THROW(readWholeFile(dir.file("missing")), Error);
   EXPECT_THROW(readWholeFile(dir.path()), Error);
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
+// An interrupt (Ctrl-C, kill) in the middle of a write: the process still dies of the signal, and
+// neither the target nor the temporary file is left. Also an old target stays whole.
+TEST(AtomicFileDeathTest, InterruptDuringAWriteLeavesNothingBehind)
+{
+  ::testing::GTEST_FLAG(death_test_style) = "threadsafe";
+  test_support::TempDir dir;
+  const std::string target = dir.file("out.txt");
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+    EXPECT_EXIT(
+        {
+          removeTemporaryFilesOnInterrupt();
+          writeFileAtomically(target, [&](const std::string& temporary) {
+            test_support::writeFile(temporary, "half of it");
+            std::raise(signal_number);
+          });
+        },
+        ::testing::KilledBySignal(signal_number), "");
+    EXPECT_TRUE(std::filesystem::is_empty(dir.path())) << signal_number;
+  }
+  writeFileAtomically(target, "old");
+  EXPECT_EXIT(
+      {
+        removeTemporaryFilesOnInterrupt();
+        writeFileAtomically(target, [&](const std::string& temporary) {
+          test_support::writeFile(temporary, "new but cut");
+          std::raise(SIGTERM);
+        });
+      },
+      ::testing::KilledBySignal(SIGTERM), "");
+  EXPECT_EQ(test_support::readFile(target), "old");
+  std::size_t entries = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
+    (void)entry;
+    ++entries;
+  }
+  EXPECT_EQ(entries, 1u);
 }

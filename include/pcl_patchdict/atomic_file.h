@@ -17,6 +17,12 @@ void writeFileAtomically(const std::string& path, const std::string& bytes);
   * the file at the path it is given, or throw. */
 void writeFileAtomically(const std::string& path, const std::function<void(const std::string&)>& write_temporary);
 
+/** Installs handlers for SIGINT, SIGTERM and SIGHUP that delete the temporary files of writes in
+  * progress and then let the signal end the process as it would have (a tool calls this once, at
+  * start): an interrupted run leaves neither a partial target nor a stray temporary file. SIGKILL
+  * cannot be caught; its temporary file ("." + name + ".tmp.<pid>.<n>") is all it can leave. */
+void removeTemporaryFilesOnInterrupt();
+
 /** Whole file into memory. Throws Error ("cannot read 'path': reason") for a missing file, a
   * directory, something that is not a regular file, or a read failure. */
 std::string readWholeFile(const std::string& path);

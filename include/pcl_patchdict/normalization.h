@@ -13,7 +13,8 @@ struct UnitCubeNormalization {
   double scale = 1.0;
 
   /** From the bounding box of the mesh's vertices. Throws Error for an empty mesh, non-finite
-    * coordinates or a box of zero size (all vertices equal). */
+    * coordinates, a box of zero or unrepresentable size (all vertices equal), or a box more than
+    * 10^6 times the extent of the middle 98 % of the vertices (stray vertices; 100 vertices or more). */
   static UnitCubeNormalization fromMesh(const TriangleMesh& mesh);
 
   Eigen::Vector3d apply(const Eigen::Vector3d& p) const { return (p - center) * scale; }
