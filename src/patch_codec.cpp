@@ -25,6 +25,10 @@ namespace patchdict {
 
 namespace {
 
+/** Largest decoded mesh accepted (vertices before trimming). */
+constexpr long long kMaxDecodedVertices = 1LL << 25;
+
+
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
@@ -442,6 +446,12 @@ void PatchCodec::decode(const std::string& bytes, TriangleMesh& out, Report* rep
     }
     target.faces = c.faces;
   } else {
+    // A few hundred bytes can ask for a quad mesh subdivided 256 times per side: refuse outputs no
+    // real encoding needs (2^25 vertices) before allocating them.
+    const double vertices = static_cast<double>(quads.faces.size()) * (c.subdivision + 1.0) * (c.subdivision + 1.0);
+    if (vertices > kMaxDecodedVertices)
+      throw Error(what + "the decoded mesh would have about " + std::to_string(static_cast<long long>(vertices)) +
+                  " vertices, more than this decoder accepts (" + std::to_string(kMaxDecodedVertices) + ")");
     target = subdivideQuadMesh(quads, static_cast<int>(c.subdivision));
   }
   PatchMeshReconstruction reconstruction;

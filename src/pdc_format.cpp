@@ -223,7 +223,8 @@ PdcContent readPdc(const std::string& bytes, const std::string& what)
                          c.radius <= 100 && std::isfinite(c.normalization.scale) && c.normalization.scale > 0 &&
                          std::isfinite(1.0 / c.normalization.scale) && c.normalization.center.allFinite() &&
                          c.coefficient_step >= 0 && c.coefficient_step <= 1e6 && c.mean_step >= 0 &&
-                         c.mean_step <= 1e6 && num_quad_faces >= 1 && patches >= 1;
+                         c.mean_step <= 1e6 && num_quad_faces >= 1 && patches >= 1 && c.overlap <= 16 &&
+                         c.coefficients >= 1 && c.coefficients <= c.num_atoms;
   if (!plausible)
     throw Error(what + "implausible header (the file is corrupted)");
   const std::size_t bins = static_cast<std::size_t>(c.grid_size) * c.grid_size;

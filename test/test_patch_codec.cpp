@@ -8,12 +8,15 @@
 #include <pcl_patchdict/patch_codec.h>
 #include <pcl_patchdict/patch_layout.h>
 #include <pcl_patchdict/quad_subdivision.h>
+#include <pcl_patchdict/shapes.h>
 
 #include "test_support.h"
 
 #include <gtest/gtest.h>
 
 #include <omp.h>
+
+#include <cmath>
 
 using namespace pcl::patchdict;
 using test_support::q;
@@ -298,4 +301,37 @@ TEST(PatchCodec, CommandsCompressDecompressAndFailInOneLine)
   // Missing --dict is a usage error.
   result = runTool("compress " + q(input) + " -o " + q(dir.file("x.pdc")));
   EXPECT_EQ(result.exit_code, 2);
+}
+
+// A few kilobytes must not make the decoder build a mesh of hundreds of millions of vertices: a
+// valid file asking for 256 splits per quad side on ~1000 quads is refused before allocating.
+TEST(PatchCodec, RefusesDecompressionBombs)
+{
+  const TriangleMesh sphere = makeIcosphere(4);
+  Eigen::MatrixXd atoms = Eigen::MatrixXd::Identity(16 * 16, 16);
+  auto dictionary = std::make_shared<PatchDictionary>();
+  dictionary->setAtoms(atoms);
+  PatchCodec codec;
+  codec.setDictionary(dictionary);
+  PatchCodecParameters parameters;
+  parameters.quad_length = 0.05;
+  parameters.coefficients = 2;
+  parameters.subdivision = 256;
+  codec.setParameters(parameters);
+  PatchCodec::Report report;
+  const std::string bytes = codec.encode(sphere, &report);
+  ASSERT_GT(report.quad_faces * 257.0 * 257.0, std::pow(2.0, 25));
+  TriangleMesh out;
+  try {
+    codec.decode(bytes, out);
+    ADD_FAILURE() << "a 2^25+ vertex output was built from " << bytes.size() << " bytes";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("more than this decoder accepts"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(out.vertices.empty());
+  // The same data at a sane subdivision decodes.
+  parameters.subdivision = 4;
+  codec.setParameters(parameters);
+  codec.decode(codec.encode(sphere), out);
+  EXPECT_GT(out.vertices.size(), 1000u);
 }
