@@ -4,6 +4,7 @@
 #pragma once
 
 #include <pcl_patchdict/error.h>
+#include <pcl_patchdict/mesh_io.h>
 #include <pcl_patchdict/patch_dictionary.h>
 #include <pcl_patchdict/triangle_mesh.h>
 
@@ -54,6 +55,20 @@ inline std::string withValidChecksum(const std::uint8_t* data, std::size_t size)
       bytes[size - 8 + static_cast<std::size_t>(k)] = static_cast<char>((sum >> (8 * k)) & 0xffu);
   }
   return bytes;
+}
+
+/** One input through readMeshFromMemory in `format`: rejected cleanly, or a valid mesh. */
+inline int fuzzMeshReader(const std::uint8_t* data, std::size_t size, pcl::patchdict::MeshFormat format)
+{
+  pcl::patchdict::TriangleMesh mesh;
+  try {
+    pcl::patchdict::readMeshFromMemory(bytesOf(data, size), format, mesh);
+  }
+  catch (const pcl::patchdict::Error&) {
+    return 0;
+  }
+  checkMesh(mesh);
+  return 0;
 }
 
 }  // namespace fuzz

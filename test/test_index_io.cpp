@@ -81,7 +81,7 @@ TEST(AtomicFileDeathTest, InterruptDuringAWriteLeavesNothingBehind)
   ::testing::GTEST_FLAG(death_test_style) = "threadsafe";
   test_support::TempDir dir;
   const std::string target = dir.file("out.txt");
-  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+  const auto interruptedWrite = [&](int signal_number) {
     EXPECT_EXIT(
         {
           removeTemporaryFilesOnInterrupt();
@@ -91,18 +91,13 @@ TEST(AtomicFileDeathTest, InterruptDuringAWriteLeavesNothingBehind)
           });
         },
         ::testing::KilledBySignal(signal_number), "");
+  };
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+    interruptedWrite(signal_number);
     EXPECT_TRUE(std::filesystem::is_empty(dir.path())) << signal_number;
   }
   writeFileAtomically(target, "old");
-  EXPECT_EXIT(
-      {
-        removeTemporaryFilesOnInterrupt();
-        writeFileAtomically(target, [&](const std::string& temporary) {
-          test_support::writeFile(temporary, "new but cut");
-          std::raise(SIGTERM);
-        });
-      },
-      ::testing::KilledBySignal(SIGTERM), "");
+  interruptedWrite(SIGTERM);
   EXPECT_EQ(test_support::readFile(target), "old");
   std::size_t entries = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
