@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <exception>
 #include <limits>
+#include <set>
 #include <vector>
 
 #include <pcl/PolygonMesh.h>
@@ -56,7 +57,8 @@ void checkPcd(const std::string& path, std::string_view bytes)
 {
   std::vector<std::string_view> fields, sizes, types, counts;
   std::uint64_t width = 0, height = 1, points = 0;
-  bool have_width = false, have_points = false;
+  bool have_width = false, have_height = false, have_points = false;
+  std::set<std::string> seen;
   std::string_view data_kind;
   std::size_t pos = 0, line_number = 0;
   auto number = [&](std::string_view token, std::uint64_t& out) {
@@ -78,13 +80,16 @@ void checkPcd(const std::string& path, std::string_view bytes)
     std::vector<std::string_view> values;
     while (cursor.nextOnLine(token))
       values.push_back(token);
+    // Each keyword once: PCL keeps the last of repeated lines, and misreads files where they disagree.
+    if (!seen.insert(std::string(keyword)).second)
+      failReadLine(path, line_number, "repeated PCD header line " + quoted(keyword));
     if (keyword == "FIELDS" || keyword == "COLUMNS") fields = values;
     else if (keyword == "SIZE") sizes = values;
     else if (keyword == "TYPE") types = values;
     else if (keyword == "COUNT") counts = values;
     else if (keyword == "VERSION" || keyword == "VIEWPOINT") continue;
     else if (keyword == "WIDTH" && values.size() == 1) { number(values[0], width); have_width = true; }
-    else if (keyword == "HEIGHT" && values.size() == 1) number(values[0], height);
+    else if (keyword == "HEIGHT" && values.size() == 1) { number(values[0], height); have_height = true; }
     else if (keyword == "POINTS" && values.size() == 1) { number(values[0], points); have_points = true; }
     else if (keyword == "DATA" && values.size() == 1 &&
              (values[0] == "ascii" || values[0] == "binary" || values[0] == "binary_compressed"))
@@ -108,9 +113,12 @@ void checkPcd(const std::string& path, std::string_view bytes)
     point_bytes += size * count;
     values_per_point += count;
   }
-  if (!have_width || (height != 0 && width > std::numeric_limits<std::uint32_t>::max() / height))
-    failRead(path, "PCD header: missing or bad WIDTH/HEIGHT");
-  if (have_points && points != width * height)
+  // PCL reads garbage (and once asked for a 100 TB string) when WIDTH, HEIGHT or POINTS is missing.
+  if (!have_width || !have_height || !have_points)
+    failRead(path, "PCD header: WIDTH, HEIGHT and POINTS are all required");
+  if (height != 0 && width > std::numeric_limits<std::uint32_t>::max() / height)
+    failRead(path, "PCD header: bad WIDTH/HEIGHT");
+  if (points != width * height)
     failRead(path, "PCD header: POINTS is not WIDTH x HEIGHT");
   points = width * height;
   if (points == 0)
