@@ -124,6 +124,28 @@ void checkPcd(const std::string& path, std::string_view bytes)
   if (points == 0)
     failRead(path, "the PCD file holds no points");
 
+  // PCL's header loop goes on reading lines after DATA while they are empty, comments, or start
+  // with a header keyword (matched as a prefix), so binary data beginning with, say, "FIELDS…" is
+  // parsed as a new header (and once made PCL ask for a 100 TB string). Refuse what it would misread.
+  if (data_kind != "ascii") {
+    static const char* const keywords[] = {"VERSION", "FIELDS", "COLUMNS", "SIZE",   "TYPE", "COUNT",
+                                           "WIDTH",   "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
+    for (std::size_t at = pos; at < bytes.size();) {
+      const std::size_t newline = bytes.find('\n', at);
+      const std::string_view line = bytes.substr(at, newline == std::string_view::npos ? bytes.npos : newline - at);
+      const std::string_view first = line.substr(0, line.find_first_of("\t\r "));
+      for (const char* keyword : keywords)
+        if (first.substr(0, std::char_traits<char>::length(keyword)) == keyword)
+          failRead(path, "PCD binary data starts like a header line (" + quoted(first) +
+                             "), which PCL would read as one");
+      if (!line.empty() && line[0] != '#')
+        break;
+      if (newline == std::string_view::npos)
+        break;
+      at = newline + 1;
+    }
+  }
+
   const std::size_t remaining = pos < bytes.size() ? bytes.size() - pos : 0;
   const auto* body = reinterpret_cast<const unsigned char*>(bytes.data()) + std::min(pos, bytes.size());
   if (data_kind == "binary") {
