@@ -72,8 +72,15 @@ void checkPcd(const std::string& path, std::string_view bytes)
       failRead(path, "not a valid PCD file (no DATA line)");
     const std::size_t newline = bytes.find('\n', pos);
     const std::size_t line_end = newline == std::string_view::npos ? bytes.size() : newline;
-    TextCursor cursor(bytes.substr(pos, line_end - pos), ++line_number, '#');
+    const std::string_view text = bytes.substr(pos, line_end - pos);
+    TextCursor cursor(text, ++line_number, '#');
     pos = line_end + 1;
+    // As PCL reads a header: a line starting with '#' is a comment, and a line starting with white
+    // space ends the header (PCL then crashes on what it has not read); empty lines are refused too.
+    if (text.empty() || text[0] == ' ' || text[0] == '\t' || text[0] == '\r')
+      failReadLine(path, line_number, "PCD header line is empty or starts with white space");
+    if (!text.empty() && text[0] != '#' && text.find('#') != std::string_view::npos)
+      failReadLine(path, line_number, "'#' inside a PCD header line");
     std::string_view keyword, token;
     if (!cursor.nextOnLine(keyword))
       continue;
