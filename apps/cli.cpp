@@ -1,5 +1,6 @@
 #include "cli.h"
 
+#include <pcl_patchdict/atomic_file.h>
 #include <pcl_patchdict/mesh_hygiene.h>
 
 #include <charconv>
@@ -255,14 +256,7 @@ void checkOutputPath(const std::string& output, const std::string& input)
     return;
   if (sameFile(output, input))
     throw Error("the output '" + output + "' is the input file; inputs are never overwritten");
-  // Where the file cannot be written, say so before the work, not after it.
-  const std::filesystem::path path(output);
-  const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
-  std::error_code ec;
-  if (!std::filesystem::is_directory(folder, ec))
-    throw Error("cannot write '" + output + "': directory '" + folder.string() + "' does not exist");
-  if (std::filesystem::is_directory(path, ec))
-    throw Error("cannot write '" + output + "': it is a directory");
+  checkWritableFile(output);  // where the file cannot be written, say so before the work, not after it
 }
 
 TriangleMesh loadMesh(const std::string& path, bool quiet, ReadInfo* info)

@@ -92,8 +92,7 @@ extern "C" void removeTemporariesAndReraise(int signal_number)
     if (path)
       ::unlink(path);
   }
-  std::signal(signal_number, SIG_DFL);
-  std::raise(signal_number);
+  std::raise(signal_number);  // SA_RESETHAND restored the default action: the process ends as it would have
 }
 
 }  // namespace
@@ -109,7 +108,7 @@ void removeTemporaryFilesOnInterrupt()
   }
 }
 
-void writeFileAtomically(const std::string& path, const std::function<void(const std::string&)>& write_temporary)
+void checkWritableFile(const std::string& path)
 {
   const fs::path target(path);
   if (target.filename().empty())
@@ -120,6 +119,14 @@ void writeFileAtomically(const std::string& path, const std::function<void(const
     failWrite(path, "directory '" + directory.string() + "' does not exist");
   if (fs::is_directory(target, ec))
     failWrite(path, "it is a directory");
+}
+
+void writeFileAtomically(const std::string& path, const std::function<void(const std::string&)>& write_temporary)
+{
+  checkWritableFile(path);
+  const fs::path target(path);
+  const fs::path directory = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::error_code ec;
   // Same directory as the target, so the rename cannot cross file systems; pid and counter keep
   // concurrent writers (threads or processes) apart.
   static std::atomic<unsigned long> counter{0};

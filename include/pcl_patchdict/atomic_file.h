@@ -17,6 +17,11 @@ void writeFileAtomically(const std::string& path, const std::string& bytes);
   * the file at the path it is given, or throw. */
 void writeFileAtomically(const std::string& path, const std::function<void(const std::string&)>& write_temporary);
 
+/** Throws Error (one line, "cannot write 'path': …") unless `path` names a file that could be written:
+  * its directory exists and it is not itself a directory. writeFileAtomically checks this first; a
+  * command can call it before its work, so that a bad output path fails at once. */
+void checkWritableFile(const std::string& path);
+
 /** Installs handlers for SIGINT, SIGTERM and SIGHUP that delete the temporary files of writes in
   * progress and then let the signal end the process as it would have (a tool calls this once, at
   * start): an interrupted run leaves neither a partial target nor a stray temporary file. SIGKILL
