@@ -151,6 +151,8 @@ JsonObject repairStagesJson(const SparsePatchInpainter::Report& report)
 {
   JsonObject json;
   json.add("base", report.seconds_base).add("surface_check", report.seconds_check);
+  json.add("check_layout", report.seconds_check_layout).add("check_patches", report.seconds_check_patches);
+  json.add("check_prediction", report.seconds_check_prediction);
   json.add("patch_stage", report.seconds_patch_stage);
   json.add("layout", report.patches.seconds_layout).add("patches", report.patches.seconds_patches);
   json.add("dictionary", report.patches.seconds_dictionary).add("coding", report.patches.seconds_coding);

@@ -183,13 +183,14 @@ void HeightMapPatchExtractor::computeMesh(PatchSet& out) const
     std::vector<int> neighbours;
     std::vector<float> distances;
     std::vector<double> best_abs(static_cast<std::size_t>(n) * n);
+    std::vector<int> best_face(static_cast<std::size_t>(n) * n);
 #pragma omp for schedule(dynamic, 8)
     for (std::ptrdiff_t p = 0; p < static_cast<std::ptrdiff_t>(seeds_.size()); ++p) {
       const Eigen::Vector3d& seed = seeds_[static_cast<std::size_t>(p)];
       const Eigen::Matrix3d& rotation = rotations_[static_cast<std::size_t>(p)];
-      tree.radiusSearch(detail::toPointXYZ(seed), query_radius, neighbours, distances);
-      // Index order, not distance order: the result must not depend on how FLANN breaks ties.
-      std::sort(neighbours.begin(), neighbours.end());
+      // FLANN's order (by distance, ties broken its own way) does not matter: a bin keeps the
+      // candidate nearest the plane, and of equal ones the lowest face index (rule below).
+      tree.radiusSearch(detail::toPointXYZ(seed), query_radius, neighbours, distances, 0);
       std::fill(best_abs.begin(), best_abs.end(), std::numeric_limits<double>::infinity());
       auto heights = out.heights.col(p);
       auto observed = out.observed.col(p);
@@ -234,9 +235,10 @@ void HeightMapPatchExtractor::computeMesh(PatchSet& out) const
             // The height map can only hold the topological disk around the seed (section 3.3 of
             // the paper); the sheet nearest the plane through the seed is the one that disk
             // continues, the others (the far side of a thin part, an overhang) belong to other patches.
-            // Strictly smaller: equal candidates (a shared edge) keep the lower face index.
-            if (std::abs(z) < best_abs[k]) {
+            // Equal candidates (a shared edge) keep the lower face index, whatever the search order.
+            if (std::abs(z) < best_abs[k] || (std::abs(z) == best_abs[k] && f < best_face[k])) {
               best_abs[k] = std::abs(z);
+              best_face[k] = f;
               heights[static_cast<Eigen::Index>(k)] = z;
               observed[static_cast<Eigen::Index>(k)] = true;
             }

@@ -274,7 +274,8 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
     std::nth_element(diameters.begin(), diameters.begin() + static_cast<std::ptrdiff_t>(diameters.size() / 2),
                      diameters.end());
     const double median_diameter = diameters.empty() ? 0.0 : diameters[diameters.size() / 2];
-    if (patch_parameters.quad_length <= 0.0 && median_diameter > 0.0)
+    const bool automatic_quad_length = patch_parameters.quad_length <= 0.0;
+    if (automatic_quad_length && median_diameter > 0.0)
       patch_parameters.quad_length =
           std::max(PatchCorrection::quadLength(work, p), p.hole_quad_factor * median_diameter);
     std::vector<bool> observed(work.numFaces(), false);
@@ -283,6 +284,7 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
     // Relief or smooth surface? Measured, not assumed: can the dictionary predict a hidden disc of
     // the holes' size from the intact patches better than a biharmonic fill can?
     PatchLayout probe_layout;
+    bool use_probe_layout = false;
     if (p.hole_settings != Parameters::HoleSettings::Smooth && median_diameter > 0.0) {
       const auto check_start = Clock::now();
       // One layout at the smallest probe's L; the larger probes widen the patches on its seeds.
@@ -293,6 +295,8 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
       for (double factor : p.relief_probe_factors)
         scales.push_back(factor / p.relief_probe_factors.front());
       computePatchLayout(work, PatchCorrection::layoutParameters(probe, probe.quad_length), probe_layout);
+      r.seconds_check_layout = secondsSince(check_start);
+      const auto patches_start = Clock::now();
       PatchCorrection correction;
       correction.setEstimate(work);
       correction.setObservedFaces(observed);
@@ -300,6 +304,8 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
       correction.setParameters(probe);
       correction.setLayout(probe_layout);
       const std::vector<PatchSet> sets = correction.observedPatchesAtScales(scales);
+      r.seconds_check_patches = secondsSince(patches_start);
+      const auto prediction_start = Clock::now();
       double best_scale = 1.0, best_significant = 0.0, best_any = 0.0;
       for (std::size_t i = 0; i < sets.size(); ++i) {
         // The probe hides a disc of the holes' radius (the loop's diameter d overstates it by the
@@ -320,6 +326,7 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
         }
       }
       r.relief_gain = best_significant > 0.0 ? best_significant : best_any;
+      r.seconds_check_prediction = secondsSince(prediction_start);
       r.seconds_check = secondsSince(check_start);
       r.relief = p.hole_settings == Parameters::HoleSettings::Relief || best_significant >= p.relief_gain;
       if (r.relief) {
@@ -330,10 +337,20 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
         patch_parameters.agreement_scale = 0.0;
         // The probe's coarse shape and quads, reseeded at the relief overlap, not made again.
         reseedPatchLayout(work, p.relief_overlap, probe_layout);
+        use_probe_layout = true;
+      } else if (automatic_quad_length && patch_parameters.quad_length > 0.0) {
+        // Smooth: patches of the side chosen above, laid on the probe's quads (spacing 0.8 d instead
+        // of 0.6 d) — one layout instead of two, the larger part of the time on a 100k-face scan.
+        patch_parameters.patch_scale *= patch_parameters.quad_length / probe.quad_length;
+        patch_parameters.quad_length = probe.quad_length;
+        patch_parameters.overlap = std::max(patch_parameters.overlap, 2);
+        if (patch_parameters.overlap != probe.overlap)
+          reseedPatchLayout(work, patch_parameters.overlap, probe_layout);
+        use_probe_layout = true;
       }
     }
     const auto constraints = patchConstraints(work, observed, new_vertices, dictionary, patch_parameters, r.patches,
-                                              nullptr, r.relief ? &probe_layout : nullptr);
+                                              nullptr, use_probe_layout ? &probe_layout : nullptr);
     r.seconds_patch_stage = secondsSince(t);
 
     // Displacement form: δ = 0 on the input vertices, constraints n·(δ − (p − x0)) = 0.

@@ -101,7 +101,8 @@ public:
     HoleFilling::Report holes;         ///< holes mode: what Liepa's filling did
     bool relief = false;               ///< holes mode: the relief settings were used
     double relief_gain = 0.0;          ///< holes mode: best significant gain of the check (else best gain; 0: not run)
-    double seconds_check = 0.0;
+    double seconds_check = 0.0;        ///< the relief check, of which:
+    double seconds_check_layout = 0.0, seconds_check_patches = 0.0, seconds_check_prediction = 0.0;
     PatchCorrectionReport patches;     ///< the patch stage
     double mean_correction = 0.0;      ///< mean |x − base| over the moved vertices (normalised)
     double seconds_base = 0.0, seconds_patch_stage = 0.0, seconds_solve = 0.0;
