@@ -118,6 +118,10 @@ int runCompress(const std::vector<std::string>& raw)
     json.add("mesh_entities", meshEntities(mesh)).add("patch_entities", report.patchEntities());
     json.add("entity_factor", entity_factor).add("raw_bytes", raw_bytes).add("byte_factor", byte_factor);
     json.add("patch_rmse", report.patch_rmse);
+    JsonObject stages;
+    stages.add("layout", report.seconds_layout).add("patches", report.seconds_patches);
+    stages.add("coding", report.seconds_coding).add("reconstruct", report.seconds_reconstruct);
+    json.add("encode_stages", stages);
     if (evaluate)
       addPsnr(json, distance, mesh);
     json.add("seconds", timer.json());

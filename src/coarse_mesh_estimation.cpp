@@ -34,9 +34,11 @@ extern "C" const char* __lsan_default_suppressions() { return "leak:pcl::poisson
 namespace pcl {
 namespace patchdict {
 
-double meanDihedralAngle(const TriangleMesh& mesh)
+namespace {
+
+/** meanDihedralAngle on a given adjacency (a smoothed mesh shares its input's). */
+double meanDihedralAngle(const TriangleMesh& mesh, const EdgeFaceAdjacency& adjacency)
 {
-  const EdgeFaceAdjacency adjacency = computeEdgeFaceAdjacency(mesh);
   double sum = 0.0;
   std::size_t count = 0;
   for (const MeshEdge& e : adjacency.edges) {
@@ -50,6 +52,13 @@ double meanDihedralAngle(const TriangleMesh& mesh)
     ++count;
   }
   return count ? sum / static_cast<double>(count) : 0.0;
+}
+
+}  // namespace
+
+double meanDihedralAngle(const TriangleMesh& mesh)
+{
+  return meanDihedralAngle(mesh, computeEdgeFaceAdjacency(mesh));
 }
 
 void CoarseMeshEstimation::setInputMesh(const TriangleMesh& mesh)
@@ -117,8 +126,9 @@ void CoarseMeshEstimation::smooth(const TriangleMesh& input, TriangleMesh& out, 
   if (report) {
     const double before = input.surfaceArea();
     report->area_change = before > 0.0 ? (mesh.surfaceArea() - before) / before : 0.0;
-    report->mean_dihedral_before = meanDihedralAngle(input);
-    report->mean_dihedral_after = meanDihedralAngle(mesh);
+    const EdgeFaceAdjacency adjacency = computeEdgeFaceAdjacency(input);  // smoothing keeps the faces
+    report->mean_dihedral_before = meanDihedralAngle(input, adjacency);
+    report->mean_dihedral_after = meanDihedralAngle(mesh, adjacency);
   }
   mesh.normals.clear();
   out = std::move(mesh);

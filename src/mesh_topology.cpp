@@ -32,9 +32,16 @@ struct DisjointSets {
 
 EdgeFaceAdjacency computeEdgeFaceAdjacency(const TriangleMesh& mesh)
 {
-  // Sort (v0, v1, face, side) records so that equal edges become runs: O(F log F), no hashing.
+  // Sort (edge key, face, side) records so that equal edges become runs: O(F log F), no hashing.
+  // The key packs the edge's two (non-negative) vertex indices, smaller first, into 64 bits; the
+  // second word is 3 × face + side, so each run lists its faces in increasing order.
   struct Side {
-    std::int32_t v0, v1, face, side;
+    std::uint64_t key;
+    std::uint64_t face_side;
+    bool operator<(const Side& other) const
+    {
+      return key < other.key || (key == other.key && face_side < other.face_side);
+    }
   };
   std::vector<Side> sides;
   sides.reserve(mesh.faces.size() * 3);
@@ -46,23 +53,30 @@ EdgeFaceAdjacency computeEdgeFaceAdjacency(const TriangleMesh& mesh)
       std::int32_t a = t[k], b = t[(k + 1) % 3];
       if (a > b)
         std::swap(a, b);
-      sides.push_back({a, b, static_cast<std::int32_t>(f), k});
+      sides.push_back({(static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b),
+                       3 * static_cast<std::uint64_t>(f) + static_cast<std::uint64_t>(k)});
     }
   }
-  std::sort(sides.begin(), sides.end(), [](const Side& x, const Side& y) {
-    return std::tie(x.v0, x.v1, x.face, x.side) < std::tie(y.v0, y.v1, y.face, y.side);
-  });
+  std::sort(sides.begin(), sides.end());
   EdgeFaceAdjacency adjacency;
   adjacency.face_edges.assign(mesh.faces.size(), {-1, -1, -1});
+  std::size_t edge_count = 0;
+  for (std::size_t i = 0; i < sides.size(); ++i)
+    edge_count += i == 0 || sides[i].key != sides[i - 1].key;
+  adjacency.edges.reserve(edge_count);
   for (std::size_t i = 0; i < sides.size();) {
     MeshEdge edge;
-    edge.v0 = sides[i].v0;
-    edge.v1 = sides[i].v1;
+    edge.v0 = static_cast<std::int32_t>(sides[i].key >> 32);
+    edge.v1 = static_cast<std::int32_t>(sides[i].key & 0xffffffffu);
     const auto edge_index = static_cast<std::int32_t>(adjacency.edges.size());
     std::size_t j = i;
-    for (; j < sides.size() && sides[j].v0 == edge.v0 && sides[j].v1 == edge.v1; ++j) {
-      edge.faces.push_back(sides[j].face);
-      adjacency.face_edges[sides[j].face][sides[j].side] = edge_index;
+    while (j < sides.size() && sides[j].key == sides[i].key)
+      ++j;
+    edge.faces.reserve(j - i);
+    for (std::size_t s = i; s < j; ++s) {
+      const auto face = static_cast<std::int32_t>(sides[s].face_side / 3);
+      edge.faces.push_back(face);
+      adjacency.face_edges[static_cast<std::size_t>(face)][sides[s].face_side % 3] = edge_index;
     }
     adjacency.edges.push_back(std::move(edge));
     i = j;

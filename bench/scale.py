@@ -1,0 +1,165 @@
+#!/usr/bin/env python3
+"""Speed and memory at scale (issue 9): `fill-holes` (self-similar, default settings) and `compress`
+on one scan at 25k, 100k, 400k and 1.6M faces (bench/make_scale_cases: lucy decimated, as it is,
+subdivided once and twice, 12 holes of radius 0.035), on 1 and 2 threads. Each run is one process:
+wall time, peak resident memory (ru_maxrss of that child, from os.wait4) and the tool's own
+per-stage seconds (--json). Writes OUT/scale.csv, OUT/scale.md and OUT/scale.png.
+
+usage: scale.py [--tool build/pcl_patchdict] [--cases-tool build/bench/make_scale_cases]
+                [--mesh ../shared/data/meshes/lucy.obj] [--out bench/results] [--quick]
+--quick: 25k and 100k faces, 2 threads only (CI smoke, about half a minute).
+"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def run(command):
+    """Runs one preparation step; exits with its stderr on failure."""
+    process = subprocess.run([str(c) for c in command], capture_output=True, text=True)
+    if process.returncode != 0:
+        sys.exit(f"scale.py: {' '.join(map(str, command))} failed:\n{process.stderr}")
+
+
+def measure(command):
+    """Wall seconds, peak RSS (MB) and parsed JSON stdout of one child, via os.wait4."""
+    read_end, write_end = os.pipe()
+    start = time.monotonic()
+    pid = os.fork()
+    if pid == 0:
+        os.close(read_end)
+        os.dup2(write_end, 1)
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, 2)
+        os.execvp(command[0], [str(c) for c in command])
+    os.close(write_end)
+    chunks = []
+    while True:
+        chunk = os.read(read_end, 1 << 16)
+        if not chunk:
+            break
+        chunks.append(chunk)
+    os.close(read_end)
+    _, status, usage = os.wait4(pid, 0)
+    wall = time.monotonic() - start
+    if os.waitstatus_to_exitcode(status) != 0:
+        sys.exit(f"scale.py: {' '.join(map(str, command))} failed (exit {os.waitstatus_to_exitcode(status)})")
+    return wall, usage.ru_maxrss / 1024.0, json.loads(b"".join(chunks).decode())
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--tool", default=str(ROOT / "build" / "pcl_patchdict"))
+    parser.add_argument("--cases-tool", default=str(ROOT / "build" / "bench" / "make_scale_cases"))
+    parser.add_argument("--mesh", default=str(ROOT.parent / "shared" / "data" / "meshes" / "lucy.obj"))
+    parser.add_argument("--out", default=str(ROOT / "bench" / "results"))
+    parser.add_argument("--quick", action="store_true")
+    args = parser.parse_args()
+    out = Path(args.out)
+    work = out / "scale_work"
+    work.mkdir(parents=True, exist_ok=True)
+    mesh = Path(args.mesh)
+    if not mesh.exists():
+        sys.exit(f"scale.py: {mesh} not found (the scans are in ../shared/data/meshes)")
+    stem = mesh.stem
+    if not (work / f"{stem}_1600k_holes.ply").exists() and not (work / f"{stem}_100k_holes.ply").exists():
+        run([args.cases_tool, str(mesh), str(work)])
+    sizes = sorted({p.stem.split("_")[1] for p in work.glob(f"{stem}_*k.ply")}, key=lambda s: int(s[:-1]))
+    if args.quick:
+        sizes = [s for s in sizes if int(s[:-1]) <= 100]
+    threads = [2] if args.quick else [1, 2]
+
+    # One dictionary for every compress run: 100 atoms learned from the smallest size.
+    dictionary = work / "dictionary.pdd"
+    if not dictionary.exists():
+        run([args.tool, "patches", work / f"{stem}_{sizes[0]}.ply", "-o", work / "train.pds", "--quad-length", "0.05",
+             "--quiet"])
+        run([args.tool, "learn", work / "train.pds", "-o", dictionary, "--quiet"])
+
+    rows = []
+    for size in sizes:
+        for t in threads:
+            holes = work / f"{stem}_{size}_holes.ply"
+            wall, rss, report = measure([args.tool, "fill-holes", holes, "-o", work / "filled.ply", "--threads", t,
+                                         "--json"])
+            stages = dict(report["seconds"])
+            stages.update(report.get("repair_stages", {}))
+            rows.append({"pipeline": "fill-holes", "faces": report["input_faces"], "threads": t, "wall": wall,
+                         "peak_mb": rss, "surface": report.get("surface", ""), "stages": stages})
+            print(f"fill-holes {size:>6} {t} thread(s): {wall:6.2f} s, {rss:7.1f} MB", flush=True)
+            intact = work / f"{stem}_{size}.ply"
+            wall, rss, report = measure([args.tool, "compress", intact, "--dict", dictionary, "-o", work / "c.pdc",
+                                         "--quad-length", "0.05", "--no-eval", "--threads", t, "--json"])
+            stages = dict(report["seconds"])
+            stages.update(report.get("encode_stages", {}))
+            rows.append({"pipeline": "compress", "faces": report["faces"], "threads": t, "wall": wall,
+                         "peak_mb": rss, "surface": "", "stages": stages})
+            print(f"compress   {size:>6} {t} thread(s): {wall:6.2f} s, {rss:7.1f} MB", flush=True)
+
+    stage_names = []
+    for row in rows:
+        for name in row["stages"]:
+            if name not in stage_names:
+                stage_names.append(name)
+    with open(out / "scale.csv", "w", newline="") as f:
+        writer = csv.writer(f)
+        writer.writerow(["pipeline", "faces", "threads", "wall_s", "peak_mb", "surface"] + stage_names)
+        for row in rows:
+            writer.writerow([row["pipeline"], row["faces"], row["threads"], f"{row['wall']:.3f}",
+                             f"{row['peak_mb']:.1f}", row["surface"]] +
+                            [f"{row['stages'].get(n, 0.0):.3f}" for n in stage_names])
+
+    with open(out / "scale.md", "w") as f:
+        f.write(f"Input: `{mesh.name}` at {', '.join(sizes)} faces (`bench/make_scale_cases`); one process per run, "
+                "wall clock and peak RSS; stage seconds from `--json`.\n\n")
+        f.write("| pipeline | faces | threads | wall s | peak MB | main stages (s) |\n|---|---:|---:|---:|---:|---|\n")
+        for row in rows:
+            s = row["stages"]
+            if row["pipeline"] == "fill-holes":
+                detail = (f"Liepa {s.get('base', 0):.2f}, check layout {s.get('check_layout', 0):.2f} + patches "
+                          f"{s.get('check_patches', 0):.2f} + prediction {s.get('check_prediction', 0):.2f}, "
+                          f"patch stage {s.get('patch_stage', 0) - s.get('surface_check', 0):.2f}, "
+                          f"solve {s.get('solve', 0):.2f}, load+write {s.get('load', 0) + s.get('write', 0):.2f}")
+            else:
+                detail = (f"layout {s.get('layout', 0):.2f}, patches {s.get('patches', 0):.2f}, coding "
+                          f"{s.get('coding', 0):.2f}, reconstruct {s.get('reconstruct', 0):.2f}, "
+                          f"load {s.get('load', 0):.2f}")
+            f.write(f"| {row['pipeline']} | {row['faces']:,} | {row['threads']} | {row['wall']:.2f} | "
+                    f"{row['peak_mb']:.0f} | {detail} |\n")
+
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("scale.py: matplotlib missing, no plot (apt-get install python3-matplotlib)", file=sys.stderr)
+        return
+    fig, axes = plt.subplots(1, 2, figsize=(9, 3.6))
+    for pipeline, colour in (("fill-holes", "tab:blue"), ("compress", "tab:red")):
+        for t, style in ((1, "--"), (2, "-")):
+            points = [(r["faces"], r["wall"], r["peak_mb"]) for r in rows if r["pipeline"] == pipeline and r["threads"] == t]
+            if not points:
+                continue
+            faces, walls, peaks = zip(*points)
+            axes[0].plot(faces, walls, style, color=colour, marker="o", label=f"{pipeline}, {t} thr")
+            axes[1].plot(faces, peaks, style, color=colour, marker="o", label=f"{pipeline}, {t} thr")
+    for ax, label in ((axes[0], "wall seconds"), (axes[1], "peak MB")):
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("faces")
+        ax.set_ylabel(label)
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out / "scale.png", dpi=110)
+
+
+if __name__ == "__main__":
+    main()
