@@ -58,12 +58,12 @@ def ensure_draco():
         sys.exit("draco_encoder not found: apt-get install draco")
 
 
-def global_dictionary(tool, meshes, work):
-    pdd = os.path.join(work, "global_100.pdd")
+def global_dictionary(tool, meshes, work, training=TRAINING):
+    pdd = os.path.join(work, "global_100_%d.pdd" % len(training))
     if os.path.exists(pdd):
         return pdd
     sets = []
-    for name in TRAINING:
+    for name in training:
         pds = os.path.join(work, "train_%s.pds" % os.path.splitext(name)[0])
         run(tool, "patches", os.path.join(meshes, name), "-o", pds, "--quad-length", "0.08", "--grid", "16",
             "--quiet", parse=False)
@@ -125,7 +125,7 @@ def table1(path, rows):
     lines = ["| mesh | L | patches | mesh entities | patch entities | factor (entities) | paper factor | "
              "bytes | factor (bytes) | PSNR | paper PSNR | Draco bytes at this PSNR |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    for mesh in TESTED:
+    for mesh in [m for m in TESTED if any(r["mesh"] == m for r in rows)]:
         paper_factor, paper_psnr = PAPER.get(mesh, SCAN_BAR)
         ours = [r for r in rows if r["mesh"] == mesh and r["method"] == "patchdict" and float(r["psnr"]) >= paper_psnr]
         if not ours:
@@ -151,7 +151,13 @@ def main():
     parser.add_argument("--lengths", default="0.1,0.08,0.064,0.05,0.04,0.032")
     parser.add_argument("--draco-bits", default="6,7,8,9,10,11,12,14")
     parser.add_argument("--plot-only", action="store_true", help="redraw PNG and table from an existing CSV")
+    parser.add_argument("--quick", action="store_true",
+                        help="CI smoke: fandisk only, L 0.08 and 0.05, Draco q8 and q11, dictionary from 2 shapes")
     args = parser.parse_args()
+    tested, training = TESTED, TRAINING
+    if args.quick:
+        tested, training = ["fandisk"], ["boot.obj", "demosthenes.obj"]
+        args.lengths, args.draco_bits = "0.08,0.05", "8,11"
     os.makedirs(os.path.dirname(args.out), exist_ok=True)
     fields = ["mesh", "method", "setting", "bytes", "psnr", "rms", "patches", "mesh_entities", "patch_entities",
               "entity_factor", "byte_factor", "seconds"]
@@ -163,9 +169,9 @@ def main():
         rows = []
         cache = os.path.join(os.path.dirname(args.out), "codec_work")
         os.makedirs(cache, exist_ok=True)
-        pdd = global_dictionary(args.tool, args.meshes, cache)
+        pdd = global_dictionary(args.tool, args.meshes, cache, training)
         with tempfile.TemporaryDirectory() as work:
-            for mesh in TESTED:
+            for mesh in tested:
                 source = os.path.join(args.meshes, mesh + ".obj")
                 for length in args.lengths.split(","):
                     pdc = os.path.join(work, "m.pdc")

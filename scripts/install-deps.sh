@@ -4,6 +4,10 @@
 set -euo pipefail
 
 packages=(g++ cmake make libpcl-dev libgtest-dev libbenchmark-dev zlib1g-dev)
+# --bench: also what bench/reproduce.py runs with (Python for the scripts, Draco for the comparison).
+if [ "${1:-}" = "--bench" ]; then
+  packages+=(python3 draco)
+fi
 
 missing=()
 for package in "${packages[@]}"; do
