@@ -178,6 +178,7 @@ def main():
         sys.exit("reproduce.py: %s not found — the scans live in ../shared/data beside the project" % a.shared)
     log = out / "reproduce.log"
     log.write_text("")
+    commit = git_commit()  # at the start: the code the results come from
     sections = []
     total = time.monotonic()
     for step in steps:
@@ -191,7 +192,7 @@ def main():
     lines = ["# Results (`bench/reproduce.py%s`)" % (" --quick" if a.quick else ""), "",
              "Commit %s, %s UTC; %s, %d cores; %.0f s in all. Regenerate with `python3 bench/reproduce.py%s` "
              "after `scripts/build.sh`. Errors are in unit-cube units (largest bounding-box side 1)." % (
-                 git_commit(), time.strftime("%Y-%m-%d %H:%M", time.gmtime()), platform.platform(terse=True),
+                 commit, time.strftime("%Y-%m-%d %H:%M", time.gmtime()), platform.platform(terse=True),
                  os.cpu_count() or 0, total, " --quick" if a.quick else ""), ""]
     for title, body, figures, seconds in sections:
         lines += ["## " + title, "", "*(%.0f s)*" % seconds, "", body, ""]
