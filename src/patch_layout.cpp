@@ -135,12 +135,17 @@ void reseedPatchLayout(const TriangleMesh& surface, int overlap, PatchLayout& ou
     // The quads lie on the coarse shape, which smoothing moved off the input (Laplacian
     // smoothing shrinks); patches are sampled from the input, so centre them on it.
     const PointToMeshDistance input(surface);
-    double moved = 0.0;
-    for (auto& seed : out.seeds) {
+    std::vector<double> shifts(out.seeds.size());
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t s = 0; s < static_cast<std::ptrdiff_t>(out.seeds.size()); ++s) {
+      Eigen::Vector3d& seed = out.seeds[static_cast<std::size_t>(s)];
       const Eigen::Vector3d on_surface = input.query(seed).closest_point;
-      moved += (on_surface - seed).norm();
+      shifts[static_cast<std::size_t>(s)] = (on_surface - seed).norm();
       seed = on_surface;
     }
+    double moved = 0.0;  // summed in seed order: the same for any thread count
+    for (double shift : shifts)
+      moved += shift;
     out.mean_seed_shift = out.seeds.empty() ? 0.0 : moved / static_cast<double>(out.seeds.size());
     out.coverage_seeds = addCoverageSeeds(surface, out.quad_length, out);
   }
