@@ -6,7 +6,8 @@
 // repair uses — the paper's setting), scored with the library's metrics, printed as Markdown and
 // written as CSV.
 //
-// usage: repair_tables MESH... [--dict D.pdd] [--local] [--seed S] [--csv FILE]
+// usage: repair_tables MESH... [--dict D.pdd] [--local] [--seed S] [--csv FILE] [--write-cases DIR]
+// --write-cases: also writes DIR/<mesh>_{truth,holes,noisy}.ply (unit cube), to rerun a case with the CLI.
 // Baselines: missing — harmonic (uniform Laplacian, fairVertices continuity 0) and the bi-Laplacian
 // (our base); holes — Liepa (our base); noise — Laplacian smoothing (uniform, λ 0.25) and Taubin
 // (λ 0.5, μ −0.53) each at its best iteration count against the truth (an oracle no user has), and
@@ -176,9 +177,10 @@ struct Table {
 
 int main(int argc, char** argv)
 {
-  const char* usage = "usage: repair_tables MESH... [--dict D.pdd] [--local] [--seed S] [--csv FILE]\n";
+  const char* usage =
+      "usage: repair_tables MESH... [--dict D.pdd] [--local] [--seed S] [--csv FILE] [--write-cases DIR]\n";
   std::vector<std::string> meshes;
-  std::string dictionary_path, csv_path;
+  std::string dictionary_path, csv_path, cases_dir;
   bool local = false;
   std::uint64_t seed = 1;
   for (int i = 1; i < argc; ++i) {
@@ -187,6 +189,8 @@ int main(int argc, char** argv)
       dictionary_path = argv[++i];
     else if (a == "--csv" && i + 1 < argc)
       csv_path = argv[++i];
+    else if (a == "--write-cases" && i + 1 < argc)
+      cases_dir = argv[++i];
     else if (a == "--seed" && i + 1 < argc)
       seed = std::strtoull(argv[++i], nullptr, 10);
     else if (a == "--local")
@@ -256,6 +260,13 @@ int main(int argc, char** argv)
       }
 
       const HoledMesh holed = punchHoles(truth, 12, 0.035, seed + 1);
+      const TriangleMesh noisy = addNormalNoise(truth, 0.5 * truth.meanEdgeLength(), seed + 2);
+      if (!cases_dir.empty()) {
+        std::filesystem::create_directories(cases_dir);
+        writeMesh(cases_dir + "/" + name + "_truth.ply", truth);
+        writeMesh(cases_dir + "/" + name + "_holes.ply", holed.mesh);
+        writeMesh(cases_dir + "/" + name + "_noisy.ply", noisy);
+      }
       const Result liepa = holesCase(truth, holed, false, nullptr);
       const Result self = holesCase(truth, holed, true, nullptr);
       row("holes", name, "r0.035", "liepa", liepa);
@@ -275,7 +286,6 @@ int main(int argc, char** argv)
       }
       holes_table.markdown += "\n";
 
-      const TriangleMesh noisy = addNormalNoise(truth, 0.5 * truth.meanEdgeLength(), seed + 2);
       Result input;
       input.error = 1e3 * vertexRMSE(truth, noisy);
       const Result laplacian = smoothingOracle(truth, noisy, false);

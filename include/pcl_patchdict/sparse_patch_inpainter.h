@@ -64,7 +64,7 @@ public:
     /// keeps the parameters as given; Relief forces the relief settings.
     enum class HoleSettings { Auto, Smooth, Relief };
     HoleSettings hole_settings = HoleSettings::Auto;
-    std::vector<double> relief_probe_factors{0.8, 1.2, 1.6};  ///< patch sides, × d (one layout at the first)
+    std::vector<double> relief_probe_factors{0.8, 1.2, 1.6};  ///< patch sides, × d (one layout: the smooth L, if automatic)
     double relief_probe_radius = 0.35;  ///< hidden disc radius of the probe, × d
     double relief_gain = 1.3;  ///< (1.5 missed the sole at radius 0.05: gain 1.49)
     /// …and only if the dictionary's error is below the biharmonic one by this × mean edge
