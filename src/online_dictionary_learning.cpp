@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <numeric>
-#include <sstream>
 
 namespace pcl {
 namespace patchdict {
@@ -91,9 +90,7 @@ OnlineDictionaryLearner::State OnlineDictionaryLearner::state() const
   state.b = b_;
   state.seen = seen_;
   state.steps = steps_;
-  std::ostringstream rng_text;
-  rng_text << rng_;
-  state.rng = rng_text.str();
+  state.rng = detail::generatorText(rng_);
   return state;
 }
 
@@ -114,11 +111,7 @@ void OnlineDictionaryLearner::setState(const State& state)
     throw Error("online learning: the saved state's matrices disagree in size");
   if (!state.dictionary.allFinite() || !state.a.allFinite() || !state.b.allFinite())
     throw Error("online learning: the saved state holds NaN or Inf");
-  std::mt19937_64 rng;
-  std::istringstream rng_text(state.rng);
-  rng_text >> rng;
-  if (rng_text.fail())
-    throw Error("online learning: the saved generator state does not parse");
+  const std::mt19937_64 rng = detail::generatorFromText(state.rng, "online learning");
   dictionary_ = state.dictionary;
   a_ = state.a;
   b_ = state.b;

@@ -1,10 +1,11 @@
 // Bounded shuffle buffer feeding an online dictionary learner (Mairal et al. 2009 assume i.i.d.
 // mini-batches; streamed files are not): eviction of a uniformly chosen patch, as shuffle buffers do.
+#include "learning_common.h"
+
 #include <pcl_patchdict/error.h>
 #include <pcl_patchdict/patch_shuffle_buffer.h>
 
 #include <algorithm>
-#include <sstream>
 
 namespace pcl {
 namespace patchdict {
@@ -122,9 +123,7 @@ PatchShuffleBuffer::State PatchShuffleBuffer::state() const
   state.buffered_mask = buffered_mask_.leftCols(size_);
   state.pending = pending_.leftCols(pending_size_);
   state.pending_mask = pending_mask_.leftCols(pending_size_);
-  std::ostringstream rng_text;
-  rng_text << rng_;
-  state.rng = rng_text.str();
+  state.rng = detail::generatorText(rng_);
   state.high_water = high_water_;
   return state;
 }
@@ -140,11 +139,7 @@ void PatchShuffleBuffer::setState(const State& state)
       state.buffered_mask.rows() != state.buffered.rows() || state.buffered_mask.cols() != state.buffered.cols() ||
       state.pending_mask.rows() != state.pending.rows() || state.pending_mask.cols() != state.pending.cols())
     throw Error("shuffle buffer: the saved state's matrices disagree in size");
-  std::mt19937_64 rng;
-  std::istringstream rng_text(state.rng);
-  rng_text >> rng;
-  if (rng_text.fail())
-    throw Error("shuffle buffer: the saved generator state does not parse");
+  const std::mt19937_64 rng = detail::generatorFromText(state.rng, "shuffle buffer");
   size_ = 0;
   pending_size_ = 0;
   pending_.resize(0, 0);
