@@ -183,6 +183,8 @@ int runLearn(const std::vector<std::string>& raw)
       buffer.setState(saved.buffer);
       saved.settings = progress.settings;
       progress = std::move(saved);
+      progress.learner = OnlineDictionaryLearner::State();  // restored above; not kept twice
+      progress.buffer = PatchShuffleBuffer::State();
       grid_size = progress.grid_size;
       resumed = true;
       resumed_pass = progress.pass;
@@ -199,6 +201,8 @@ int runLearn(const std::vector<std::string>& raw)
       progress.buffer = buffer.state();
       progress.save(checkpoint_path);
       ++checkpoints_written;
+      progress.learner = OnlineDictionaryLearner::State();  // copies not kept between checkpoints
+      progress.buffer = PatchShuffleBuffer::State();
     };
 
     const auto started = std::chrono::steady_clock::now();
