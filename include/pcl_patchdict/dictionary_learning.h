@@ -55,8 +55,9 @@ struct OnlineLearningParameters {
   * B = Σ x αᵀ, counters, generator): state() / setState() make a run resumable bit for bit
   * (`learn --checkpoint`). A and B are sums over the signals (weighted by the mini-batch
   * forgetting factor), which is what makes the method distributable: shards coded on several
-  * machines against a common D give statistics that add up, and one block-coordinate update of
-  * D on the summed A, B (updateAtoms()) is the update of the union (README, "Global dictionaries"). */
+  * machines against a common D give statistics that add up (the common A₀, B₀ decayed once), and
+  * one block-coordinate update of D on the summed A, B (updateAtoms()) is the update of the union
+  * (README, "Global dictionaries"). */
 class OnlineDictionaryLearner {
 public:
   /** The whole learner, as `learn --checkpoint` stores it. `rng` is the generator's state in the

@@ -18,9 +18,10 @@ namespace patchdict {
   * `inputs_fingerprint` they let a resumed run refuse to continue a different job.
   *
   * For several machines (Mairal et al. 2009's statistics are sums): every machine starts from the
-  * same checkpoint's dictionary, streams its shard, and the shards' A and B — minus the common
-  * starting A and B — add up to the statistics of all the shards; OnlineDictionaryLearner::
-  * updateAtoms() on the sum gives the next common dictionary (README, "Global dictionaries").
+  * same checkpoint (D, A₀, B₀) and codes its shard of a mini-batch; each reports ΔA = A − β A₀ and
+  * ΔB = B − β B₀ (its own forgetting factor β); A = β' A₀ + Σ ΔA, B = β' B₀ + Σ ΔB (β' of the
+  * combined batch) and OnlineDictionaryLearner::updateAtoms() give the step one machine would have
+  * taken on the combined batch (README, "Global dictionaries"; test ShardStatisticsAddUp).
   *
   * File layout (.pdk, little-endian): magic "PCLPDK\0\x1a", version, then the fields below in
   * order (strings and matrices with their sizes first), then FNV-1a 64 of everything before it. */
