@@ -2,7 +2,7 @@
 // one (online learning, Mairal et al. 2009, streamed from many patch sets or surfaces, resumable).
 #include "cli.h"
 #include "learn_inputs.h"
-#include "patch_seeds.h"
+#include "surface_patches.h"
 
 #include <pcl_patchdict/learning_checkpoint.h>
 #include <pcl_patchdict/patch_dictionary.h>

@@ -1,7 +1,7 @@
 // `pcl_patchdict patches IN -o X.pds`: the height-map patch set of a surface (section 3.2 of the
 // paper), in the input's unit-cube units, with an optional PNG contact sheet.
 #include "cli.h"
-#include "patch_seeds.h"
+#include "surface_patches.h"
 
 
 #include <algorithm>
