@@ -30,7 +30,8 @@ void putMatrix(detail::ByteWriter& out, const Eigen::MatrixXd& matrix)
 {
   out.putU64(static_cast<std::uint64_t>(matrix.rows()));
   out.putU64(static_cast<std::uint64_t>(matrix.cols()));
-  out.putRaw(matrix.data(), sizeof(double) * static_cast<std::size_t>(matrix.size()));
+  if (matrix.size() != 0)  // an empty matrix has no data pointer to copy from (null)
+    out.putRaw(matrix.data(), sizeof(double) * static_cast<std::size_t>(matrix.size()));
 }
 
 void putMask(detail::ByteWriter& out, const ObservationMask& mask)
@@ -55,7 +56,8 @@ std::string getString(detail::ByteReader& in)
 std::pair<Eigen::Index, Eigen::Index> getShape(detail::ByteReader& in, std::size_t entry_size)
 {
   const std::uint64_t rows = in.getU64(), cols = in.getU64();
-  if (rows > kMaxRows || (rows != 0 && cols > in.remaining() / entry_size / rows))
+  // No columns without rows: 0 × 2⁶³ is a negative size, 0 × 2⁴⁰ hours of looping over nothing.
+  if (rows > kMaxRows || (rows == 0 && cols != 0) || (rows != 0 && cols > in.remaining() / entry_size / rows))
     throw Error(in.what() + "implausible matrix size " + std::to_string(rows) + " × " + std::to_string(cols) +
                 " (the file is truncated or corrupted)");
   return {static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols)};
@@ -65,7 +67,8 @@ Eigen::MatrixXd getMatrix(detail::ByteReader& in)
 {
   const auto shape = getShape(in, sizeof(double));
   Eigen::MatrixXd matrix(shape.first, shape.second);
-  in.getRaw(matrix.data(), sizeof(double) * static_cast<std::size_t>(matrix.size()));
+  if (matrix.size() != 0)  // memcpy into Eigen's null pointer of an empty matrix is undefined
+    in.getRaw(matrix.data(), sizeof(double) * static_cast<std::size_t>(matrix.size()));
   if (!matrix.allFinite())
     throw Error(in.what() + "a matrix holds NaN or Inf");
   return matrix;
@@ -208,6 +211,10 @@ LearningCheckpoint LearningCheckpoint::fromBytes(const std::string& bytes, const
   checkpoint.buffer.pending_mask = getMask(in);
   checkpoint.buffer.rng = getString(in);
   checkpoint.buffer.high_water = in.getU64();
+  const PatchShuffleBuffer::State& buffer = checkpoint.buffer;
+  if (buffer.buffered_mask.rows() != buffer.buffered.rows() || buffer.buffered_mask.cols() != buffer.buffered.cols() ||
+      buffer.pending_mask.rows() != buffer.pending.rows() || buffer.pending_mask.cols() != buffer.pending.cols())
+    throw Error(where + "the buffer's masks do not match its patches");
   if (!in.atEnd())
     throw Error(where + std::to_string(in.remaining()) + " unexpected bytes before the checksum");
   return checkpoint;
