@@ -182,6 +182,15 @@ JsonObject& JsonObject::add(const std::string& key, const JsonObject& value)
   return *this;
 }
 
+JsonObject& JsonObject::add(const std::string& key, const std::vector<JsonObject>& values)
+{
+  std::string array = "[";
+  for (std::size_t i = 0; i < values.size(); ++i)
+    array += (i ? ", " : "") + values[i].str();
+  members_.emplace_back(key, array + "]");
+  return *this;
+}
+
 JsonObject& JsonObject::addNull(const std::string& key)
 {
   members_.emplace_back(key, "null");

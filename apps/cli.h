@@ -59,6 +59,7 @@ public:
   JsonObject& add(const std::string& key, const std::string& value);
   JsonObject& add(const std::string& key, const char* value) { return add(key, std::string(value)); }
   JsonObject& add(const std::string& key, const JsonObject& value);
+  JsonObject& add(const std::string& key, const std::vector<JsonObject>& values);  ///< an array of objects
   JsonObject& addNull(const std::string& key);
   std::string str() const;
 

@@ -1,12 +1,8 @@
 // `pcl_patchdict patches IN -o X.pds`: the height-map patch set of a surface (section 3.2 of the
 // paper), in the input's unit-cube units, with an optional PNG contact sheet.
 #include "cli.h"
-#include "patch_seeds.h"
+#include "surface_patches.h"
 
-#include <pcl_patchdict/coarse_mesh_estimation.h>
-#include <pcl_patchdict/height_map_patch_extractor.h>
-#include <pcl_patchdict/mesh_hygiene.h>
-#include <pcl_patchdict/normalization.h>
 
 #include <algorithm>
 #include <cmath>
@@ -21,11 +17,11 @@ namespace {
 
 constexpr std::size_t kSheetPatches = 400;  // a contact sheet of every patch would be gigapixels
 
-JsonObject normalisationJson(const UnitCubeNormalization& normalization)
+JsonObject normalisationJson(const SurfacePatches& surface)
 {
   JsonObject json;
-  json.add("center_x", normalization.center.x()).add("center_y", normalization.center.y());
-  json.add("center_z", normalization.center.z()).add("scale", normalization.scale);
+  json.add("center_x", surface.center.x()).add("center_y", surface.center.y());
+  json.add("center_z", surface.center.z()).add("scale", surface.scale);
   return json;
 }
 
@@ -56,41 +52,15 @@ int runPatches(const std::vector<std::string>& raw)
     throw UsageError("--png and -o name the same file");
 
   StageTimer timer(quiet);
-  timer.start("load");
-  TriangleMesh surface = loadMesh(input, quiet);
-  const bool is_cloud = surface.faces.empty();
-  cleanInputMesh(surface, input);
-  const UnitCubeNormalization normalization = UnitCubeNormalization::fromMesh(surface);
-  normalization.apply(surface);
-
-  // Seeds live on a surface: the mesh itself, or for a cloud its coarse Poisson surface.
-  TriangleMesh placement;
-  CoarseMeshEstimation::Report coarse_report;
-  if (is_cloud) {
-    timer.start("coarse_surface");
-    pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
-    toPointCloud(surface, *cloud);
-    CoarseMeshEstimation coarse;
-    coarse.setInputCloud(cloud);
-    coarse.process(placement, &coarse_report);
-    note(quiet, "  coarse surface: Poisson depth " + std::to_string(coarse_report.poisson_depth) + ", " +
-                    std::to_string(placement.faces.size()) + " faces");
-  }
-  timer.start("seeds");
-  const SeedsAndFrames seeds =
-      computeSeedsAndFrames(is_cloud ? placement : surface, quad_length, overlap, seed, seed_placement);
-  timer.start("extract");
-  PatchSet patches;
-  if (is_cloud) {
-    HeightMapPatchExtractor extractor;
-    extractor.setInputCloud(surface);
-    extractor.setSeeds(seeds.seeds, seeds.frames);
-    extractor.setRadius(quad_length / std::sqrt(2.0));
-    extractor.setGridSize(grid_size);
-    extractor.compute(patches);
-  } else {
-    patches = extractMeshPatches(surface, seeds, quad_length, grid_size);
-  }
+  SurfacePatchOptions options;
+  options.grid_size = grid_size;
+  options.quad_length = quad_length;
+  options.overlap = overlap;
+  options.seed = seed;
+  options.placement = seed_placement;
+  const SurfacePatches surface = surfacePatches(input, options, quiet, &timer);
+  const PatchSet& patches = surface.patches;
+  const bool is_cloud = surface.is_cloud;
   note(quiet, "  " + std::to_string(patches.numPatches()) + " patches of " + std::to_string(grid_size) + "×" +
                   std::to_string(grid_size) + " bins, " +
                   std::to_string(static_cast<int>(100.0 * patches.observedFraction() + 0.5)) + " % observed");
@@ -103,14 +73,14 @@ int runPatches(const std::vector<std::string>& raw)
   if (args.has("json")) {
     JsonObject json;
     json.add("command", "patches").add("input", input).add("output", output);
-    json.add("input_kind", is_cloud ? "cloud" : "mesh").add("vertices", surface.vertices.size());
-    json.add("faces", surface.faces.size());
+    json.add("input_kind", is_cloud ? "cloud" : "mesh").add("vertices", surface.vertices);
+    json.add("faces", surface.faces);
     if (is_cloud)
-      json.add("poisson_depth", coarse_report.poisson_depth).add("coarse_faces", placement.faces.size());
+      json.add("poisson_depth", surface.poisson_depth).add("coarse_faces", surface.coarse_faces);
     json.add("patches", patches.numPatches()).add("grid_size", grid_size).add("quad_length", quad_length);
     json.add("radius", patches.radius).add("overlap", overlap).add("placement", args.get("placement", "quads"));
     json.add("observed_fraction", patches.observedFraction());
-    json.add("units", "unit-cube").add("normalisation", normalisationJson(normalization));
+    json.add("units", "unit-cube").add("normalisation", normalisationJson(surface));
     if (!png.empty())
       json.add("png", png).add("png_patches", std::min(patches.numPatches(), kSheetPatches));
     json.add("seconds", timer.json());

@@ -37,9 +37,12 @@ const std::vector<std::pair<std::string, Subcommand>>& subcommands()
                    "patches IN -o PATCHES.pds [--png SHEET.png] [--grid N] [--quad-length L] [--overlap K] [--json]",
                    "height-map patch set (unit-cube units)"}},
       {"learn", {cli::runLearn,
-                 "learn IN.pds... -o DICT.pdd [--atoms K] [--sparsity S] [--iterations T] [--method ksvd|online] "
-                 "[--remove-mean] [--png ATOMS.png]",
-                 "learn a patch dictionary from patch sets (local: one, global: many)"}},
+                 "learn INPUT... -o DICT.pdd [--method ksvd|online] [--atoms K] [--sparsity S] [--iterations T] "
+                 "[--batch B] [--buffer N] [--grid N] [--quad-length L] [--overlap K] [--skip-bad] "
+                 "[--checkpoint FILE.pdk [--checkpoint-every N] [--stop-after N]] [--resume FILE.pdk] "
+                 "[--remove-mean] [--png ATOMS.png] [--json]",
+                 "learn a patch dictionary from .pds files, meshes, clouds, folders, globs or @lists (one input: "
+                 "K-SVD, local; several: online, streamed, resumable)"}},
       {"reconstruct", {cli::runReconstruct,
                        "reconstruct IN -o OUT [--dict DICT.pdd [--sparsity S]] [--rule bilinear|bin-centres] [--json]",
                        "surface -> patches -> surface round trip (identity, or through a dictionary), scored"}},

@@ -68,7 +68,9 @@ def global_dictionary(tool, meshes, work, training=TRAINING):
         run(tool, "patches", os.path.join(meshes, name), "-o", pds, "--quad-length", "0.08", "--grid", "16",
             "--quiet", parse=False)
         sets.append(pds)
-    run(tool, "learn", *sets, "-o", pdd, "--atoms", "100", "--sparsity", "10", "--quiet", parse=False)
+    # K-SVD, as the figures were made (several inputs would default to online learning).
+    run(tool, "learn", *sets, "-o", pdd, "--method", "ksvd", "--atoms", "100", "--sparsity", "10", "--quiet",
+        parse=False)
     return pdd
 
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <sstream>
 
 namespace pcl {
 namespace patchdict {
@@ -78,6 +79,23 @@ Eigen::MatrixXd initialAtoms(const Eigen::MatrixXd& signals, const ObservationMa
     atoms.col(filled).normalize();
   }
   return atoms;
+}
+
+std::string generatorText(const std::mt19937_64& rng)
+{
+  std::ostringstream text;
+  text << rng;
+  return text.str();
+}
+
+std::mt19937_64 generatorFromText(const std::string& text, const std::string& what)
+{
+  std::mt19937_64 rng;
+  std::istringstream in(text);
+  in >> rng;
+  if (in.fail())
+    throw Error(what + ": the saved generator state does not parse");
+  return rng;
 }
 
 }  // namespace detail

@@ -4,6 +4,7 @@
 #include <pcl_patchdict/dictionary_learning.h>
 
 #include <random>
+#include <string>
 
 namespace pcl {
 namespace patchdict {
@@ -23,6 +24,11 @@ Eigen::VectorXd observedColumn(const Eigen::MatrixXd& signals, const Observation
   * random atoms if there are not enough such signals. */
 Eigen::MatrixXd initialAtoms(const Eigen::MatrixXd& signals, const ObservationMask& mask, int num_atoms,
                              std::mt19937_64& rng);
+
+/** The generator's state in the standard's text form (portable between builds), and back; the
+  * latter throws Error "<what>: the saved generator state does not parse". */
+std::string generatorText(const std::mt19937_64& rng);
+std::mt19937_64 generatorFromText(const std::string& text, const std::string& what);
 
 }  // namespace detail
 }  // namespace patchdict

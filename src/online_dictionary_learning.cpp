@@ -47,11 +47,21 @@ void OnlineDictionaryLearner::update(const Eigen::MatrixXd& batch, const Observa
   a_ = beta * a_ + codes * codes.transpose();
   b_ = beta * b_ + filled * codes.transpose();
 
-  std::uniform_int_distribution<Eigen::Index> pick(0, batch.cols() - 1);
+  blockCoordinateUpdate(&filled);
+  seen_ += static_cast<std::size_t>(batch.cols());
+  ++steps_;
+}
+
+void OnlineDictionaryLearner::blockCoordinateUpdate(const Eigen::MatrixXd* restart_from)
+{
+  const int num_atoms = parameters_.num_atoms;
   for (int j = 0; j < num_atoms; ++j) {
     if (a_(j, j) < 1e-6) {
+      if (restart_from == nullptr || restart_from->cols() == 0)
+        continue;
       // An atom nobody uses: restart it from a signal of this batch (as SPAMS does).
-      Eigen::VectorXd candidate = detail::observedColumn(filled, ObservationMask(), pick(rng_));
+      std::uniform_int_distribution<Eigen::Index> pick(0, restart_from->cols() - 1);
+      Eigen::VectorXd candidate = detail::observedColumn(*restart_from, ObservationMask(), pick(rng_));
       const double norm = candidate.norm();
       if (norm > 1e-12)
         dictionary_.col(j) = candidate / norm;
@@ -62,8 +72,52 @@ void OnlineDictionaryLearner::update(const Eigen::MatrixXd& batch, const Observa
     if (norm > 1e-12)
       dictionary_.col(j) = atom / norm;
   }
-  seen_ += static_cast<std::size_t>(batch.cols());
-  ++steps_;
+}
+
+void OnlineDictionaryLearner::updateAtoms()
+{
+  if (dictionary_.size() == 0)
+    throw Error("online learning: no dictionary to update yet");
+  blockCoordinateUpdate(nullptr);
+}
+
+OnlineDictionaryLearner::State OnlineDictionaryLearner::state() const
+{
+  State state;
+  state.parameters = parameters_;
+  state.dictionary = dictionary_;
+  state.a = a_;
+  state.b = b_;
+  state.seen = seen_;
+  state.steps = steps_;
+  state.rng = detail::generatorText(rng_);
+  return state;
+}
+
+void OnlineDictionaryLearner::setState(const State& state)
+{
+  const OnlineLearningParameters& p = state.parameters;
+  if (p.num_atoms != parameters_.num_atoms || p.sparsity != parameters_.sparsity ||
+      p.batch_size != parameters_.batch_size || p.seed != parameters_.seed)
+    throw Error("online learning: the saved state was made with other parameters (atoms " +
+                std::to_string(p.num_atoms) + ", sparsity " + std::to_string(p.sparsity) + ", batch " +
+                std::to_string(p.batch_size) + ", seed " + std::to_string(p.seed) + ")");
+  const Eigen::Index k = parameters_.num_atoms;
+  const Eigen::Index n = state.dictionary.rows();
+  const bool empty = state.dictionary.size() == 0;
+  if (empty ? (state.a.size() != 0 || state.b.size() != 0)
+            : (state.dictionary.cols() != k || state.a.rows() != k || state.a.cols() != k || state.b.rows() != n ||
+               state.b.cols() != k))
+    throw Error("online learning: the saved state's matrices disagree in size");
+  if (!state.dictionary.allFinite() || !state.a.allFinite() || !state.b.allFinite())
+    throw Error("online learning: the saved state holds NaN or Inf");
+  const std::mt19937_64 rng = detail::generatorFromText(state.rng, "online learning");
+  dictionary_ = state.dictionary;
+  a_ = state.a;
+  b_ = state.b;
+  seen_ = static_cast<std::size_t>(state.seen);
+  steps_ = static_cast<std::size_t>(state.steps);
+  rng_ = rng;
 }
 
 void OnlineDictionaryLearner::fit(const Eigen::MatrixXd& signals, const ObservationMask& mask, int epochs)

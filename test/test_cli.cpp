@@ -212,7 +212,8 @@ TEST(Cli, LearnFromPatchFiles)
     set.save(dir.file(name));
   }
   auto result = runTool("learn " + q(dir.file("a.pds")) + " " + q(dir.file("b.pds")) + " -o " + q(dir.file("d.pdd")) +
-                        " --atoms 12 --sparsity 4 --iterations 10 --png " + q(dir.file("atoms.png")) + " --json");
+                        " --method ksvd --atoms 12 --sparsity 4 --iterations 10 --png " + q(dir.file("atoms.png")) +
+                        " --json");
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(jsonNumber(result.out, "patches"), 600.0);
   EXPECT_LT(jsonNumber(result.out, "final_rmse"), 0.05);
@@ -227,9 +228,16 @@ TEST(Cli, LearnFromPatchFiles)
   const auto online = PatchDictionary::load(dir.file("o.pdd"), 8);
   EXPECT_EQ(online->atoms().cols(), 12);
   EXPECT_EQ(online->trainingPatches(), 600u);
-  // A mesh is refused with one line; so is an output in a missing directory.
-  writeMesh(dir.file("m.ply"), makePlaneGrid(2, 2));
-  result = runTool("learn " + q(dir.file("m.ply")) + " -o " + q(dir.file("x.pdd")) + " --quiet");
+  // Two inputs default to online learning (a global dictionary).
+  result = runTool("learn " + q(dir.file("a.pds")) + " " + q(dir.file("b.pds")) + " -o " + q(dir.file("g.pdd")) +
+                   " --atoms 12 --sparsity 4 --iterations 5 --batch 64 --json");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("\"method\": \"online\""), std::string::npos) << result.out;
+  EXPECT_EQ(test_support::readFile(dir.file("g.pdd")), test_support::readFile(dir.file("o.pdd")));
+  // A file that is neither a patch set nor a surface is refused with one line; so is an output in
+  // a missing directory.
+  test_support::writeFile(dir.file("m.txt"), "not patches\n");
+  result = runTool("learn " + q(dir.file("m.txt")) + " -o " + q(dir.file("x.pdd")) + " --quiet");
   EXPECT_EQ(result.exit_code, 1);
   EXPECT_TRUE(isOneLine(result.err)) << result.err;
   result = runTool("learn " + q(dir.file("a.pds")) + " -o " + q(dir.file("no/such/d.pdd")) + " --quiet");

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace pcl {
@@ -48,9 +49,29 @@ struct OnlineLearningParameters {
 /** \brief Online dictionary learning (Mairal, Bach, Ponce & Sapiro, ICML 2009) with OMP coding:
   * memory is O(n·K + K² + batch), whatever the number of signals, so patches can be streamed from
   * many files. Unobserved entries of a batch are filled with the current reconstruction before
-  * they enter the statistics (an EM step). */
+  * they enter the statistics (an EM step).
+  *
+  * Everything the learner knows is its State (dictionary D, the statistics A = Σ α αᵀ and
+  * B = Σ x αᵀ, counters, generator): state() / setState() make a run resumable bit for bit
+  * (`learn --checkpoint`). A and B are sums over the signals (weighted by the mini-batch
+  * forgetting factor), which is what makes the method distributable: shards coded on several
+  * machines against a common D give statistics that add up (the common A₀, B₀ decayed once), and
+  * one block-coordinate update of D on the summed A, B (updateAtoms()) is the update of the union
+  * (README, "Global dictionaries"). */
 class OnlineDictionaryLearner {
 public:
+  /** The whole learner, as `learn --checkpoint` stores it. `rng` is the generator's state in the
+    * standard's text form (operator<< of std::mt19937_64), portable between builds. */
+  struct State {
+    OnlineLearningParameters parameters;
+    Eigen::MatrixXd dictionary;  ///< n × K (empty before the first update)
+    Eigen::MatrixXd a;           ///< K × K
+    Eigen::MatrixXd b;           ///< n × K
+    std::uint64_t seen = 0;
+    std::uint64_t steps = 0;
+    std::string rng;
+  };
+
   explicit OnlineDictionaryLearner(const OnlineLearningParameters& parameters);
 
   /** Feeds one mini-batch (n × b; mask empty or n × b). The first call fixes n and initialises the
@@ -61,8 +82,22 @@ public:
 
   const Eigen::MatrixXd& dictionary() const { return dictionary_; }
   std::size_t signalsSeen() const { return seen_; }
+  const OnlineLearningParameters& parameters() const { return parameters_; }
+
+  State state() const;
+  /** Replaces the learner with a saved one. Throws Error (one line) if the parameters differ from
+    * this learner's, the sizes disagree (D n × K, A K × K, B n × K), a value is not finite, or
+    * the generator text does not parse. */
+  void setState(const State& state);
+  /** One block-coordinate pass over the atoms on the current A and B (Mairal et al. 2009, alg. 2),
+    * as update() ends with; for statistics summed from shards (see the class comment). Atoms with
+    * A(j, j) ≈ 0 are left as they are. */
+  void updateAtoms();
 
 private:
+  /** The atom pass; an unused atom restarts from a random column of `restart_from` if given. */
+  void blockCoordinateUpdate(const Eigen::MatrixXd* restart_from);
+
   OnlineLearningParameters parameters_;
   Eigen::MatrixXd dictionary_;  // n × K, unit columns
   Eigen::MatrixXd a_;           // K × K: Σ α αᵀ (decayed)
