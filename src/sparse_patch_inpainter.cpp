@@ -43,7 +43,7 @@ struct ReliefProbe {
 ReliefProbe probeRelief(const TriangleMesh& work, const std::vector<bool>& observed,
                         const PatchDictionary::ConstPtr& dictionary, const SparsePatchInpainter::Parameters& p,
                         double median_diameter, double mean_edge_length, double quad_length, int overlap,
-                        PatchLayout& layout, const ReliefProbe* previous = nullptr)
+                        PatchLayout& layout, const ReliefProbe* previous = nullptr, int max_seeds = 0)
 {
   ReliefProbe result;
   if (previous) {
@@ -62,12 +62,24 @@ ReliefProbe probeRelief(const TriangleMesh& work, const std::vector<bool>& obser
   computePatchLayout(work, PatchCorrection::layoutParameters(probe, quad_length), layout);
   result.seconds_layout += secondsSince(t);
   t = Clock::now();
+  PatchLayout subset;  // evenly spaced seeds of the layout, when it has more than max_seeds
+  const bool subsample = max_seeds > 0 && layout.seeds.size() > static_cast<std::size_t>(max_seeds);
+  if (subsample) {
+    subset.quad_length = layout.quad_length;
+    const std::size_t count = static_cast<std::size_t>(max_seeds);
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::size_t s = i * layout.seeds.size() / count;
+      subset.seeds.push_back(layout.seeds[s]);
+      subset.frames.push_back(layout.frames[s]);
+      subset.seed_faces.push_back(layout.seed_faces[s]);
+    }
+  }
   PatchCorrection correction;
   correction.setEstimate(work);
   correction.setObservedFaces(observed);
   correction.setDictionary(dictionary);
   correction.setParameters(probe);
-  correction.setLayout(layout);
+  correction.setLayout(subsample ? subset : layout);
   const std::vector<PatchSet> sets = correction.observedPatchesAtScales(scales);
   result.seconds_patches += secondsSince(t);
   t = Clock::now();
@@ -112,7 +124,7 @@ void checkParameters(const SparsePatchInpainter::Parameters& p)
   if (!(p.relief_gain > 0.0) || !std::isfinite(p.relief_gain) || !(p.relief_constraint_weight >= 0.0) ||
       !std::isfinite(p.relief_constraint_weight) || p.relief_overlap < 0 || p.relief_probe_factors.empty() ||
       !(p.relief_probe_radius > 0.0) || !std::isfinite(p.relief_probe_radius) ||
-      !(p.relief_min_improvement >= 0.0) || !std::isfinite(p.relief_min_improvement))
+      !(p.relief_min_improvement >= 0.0) || !std::isfinite(p.relief_min_improvement) || p.relief_probe_max_seeds < 0)
     throw Error("bad relief settings");
   for (double factor : p.relief_probe_factors)
     if (!(factor > 0.0) || !std::isfinite(factor))
@@ -359,7 +371,8 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
       if (!forced_relief)
         probe = probeRelief(work, observed, dictionary, p, median_diameter, r.mean_edge_length,
                             shared_layout ? patch_parameters.quad_length : relief_length,
-                            shared_layout ? patch_parameters.overlap : 1, probe_layout);
+                            shared_layout ? patch_parameters.overlap : 1, probe_layout, nullptr,
+                            shared_layout ? p.relief_probe_max_seeds : 0);
       r.relief_gain = probe.best_significant > 0.0 ? probe.best_significant : probe.best_any;
       r.relief = forced_relief || probe.best_significant >= p.relief_gain;
       if (r.relief) {
