@@ -177,29 +177,32 @@ def main():
     if not (a.shared / "meshes").is_dir():
         sys.exit("reproduce.py: %s not found — the scans live in ../shared/data beside the project" % a.shared)
     log = out / "reproduce.log"
-    log.write_text("")
+    with open(log, "a") as f:
+        f.write("# reproduce.py %s\n" % " ".join(sys.argv[1:]))
     commit = git_commit()  # at the start: the code the results come from
-    sections = []
-    total = time.monotonic()
+    mode = " --quick" if a.quick else ""
     for step in steps:
         start = time.monotonic()
         print("reproduce.py: %s …" % step, flush=True)
         title, body, figures = globals()[step](a, out, log)
         seconds = time.monotonic() - start
-        sections.append((title, body, figures, seconds))
+        # Each step keeps its own section, so that a partial rerun (--only) updates just its part.
+        section = ["## " + title, "", "*(`reproduce.py%s`, commit %s, %s UTC, %.0f s)*" % (
+            mode, commit, time.strftime("%Y-%m-%d %H:%M", time.gmtime()), seconds), "", body, ""]
+        section += ["![%s](%s)" % (f, f) for f in figures]
+        (out / ("section_%s.md" % step)).write_text("\n".join(section) + "\n")
         print("reproduce.py: %s done in %.0f s" % (step, seconds), flush=True)
-    total = time.monotonic() - total
-    lines = ["# Results (`bench/reproduce.py%s`)" % (" --quick" if a.quick else ""), "",
-             "Commit %s, %s UTC; %s, %d cores; %.0f s in all. Regenerate with `python3 bench/reproduce.py%s` "
-             "after `scripts/build.sh`. Errors are in unit-cube units (largest bounding-box side 1)." % (
-                 commit, time.strftime("%Y-%m-%d %H:%M", time.gmtime()), platform.platform(terse=True),
-                 os.cpu_count() or 0, total, " --quick" if a.quick else ""), ""]
-    for title, body, figures, seconds in sections:
-        lines += ["## " + title, "", "*(%.0f s)*" % seconds, "", body, ""]
-        lines += ["![%s](%s)" % (f, f) for f in figures]
-        lines.append("")
+    lines = ["# Results of `bench/reproduce.py`", "",
+             "%s, %d cores. Each section names the commit and the mode it was made with; regenerate with "
+             "`python3 bench/reproduce.py [--quick] [--only STEP,...]` after `scripts/build.sh`. Errors are in "
+             "unit-cube units (largest bounding-box side 1)." % (platform.platform(terse=True), os.cpu_count() or 0),
+             ""]
+    for step in STEPS:
+        path = out / ("section_%s.md" % step)
+        if path.exists():
+            lines.append(path.read_text())
     (out / "RESULTS.md").write_text("\n".join(lines))
-    print("reproduce.py: wrote %s (%.0f s)" % (out / "RESULTS.md", total))
+    print("reproduce.py: wrote %s" % (out / "RESULTS.md"))
 
 
 if __name__ == "__main__":
