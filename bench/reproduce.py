@@ -151,8 +151,8 @@ def scale(a, out, log):
     run([sys.executable, HERE / "scale.py", "--tool", a.tool, "--cases-tool", a.build / "bench" / "make_scale_cases",
          "--mesh", a.shared / "meshes" / "lucy.obj", "--out", out, *(["--quick"] if a.quick else [])], log)
     return ("Speed and memory at scale", open(out / "scale.md").read().strip() +
-            "\n\nPlot: wall seconds (left) and peak MB (right) against faces; blue fill-holes, red compress; dashed "
-            "1 thread, solid 2.", ["scale.png"])
+            "\n\nPlots: wall seconds, then peak MB, against faces (log-log); blue fill-holes, red compress; dashed "
+            "1 thread, solid 2.", ["scale_time.png", "scale_memory.png"])
 
 
 def main():

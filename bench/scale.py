@@ -3,7 +3,8 @@
 on one scan at 25k, 100k, 400k and 1.6M faces (bench/make_scale_cases: lucy decimated, as it is,
 subdivided once and twice, 12 holes of radius 0.035), on 1 and 2 threads. Each run is one process:
 wall time, peak resident memory (ru_maxrss of that child, from os.wait4) and the tool's own
-per-stage seconds (--json). Writes OUT/scale.csv, OUT/scale.md and OUT/scale.png.
+per-stage seconds (--json). Writes OUT/scale.csv, OUT/scale.md, OUT/scale_time.png and
+OUT/scale_memory.png.
 
 usage: scale.py [--tool build/pcl_patchdict] [--cases-tool build/bench/make_scale_cases]
                 [--mesh ../shared/data/meshes/lucy.obj] [--out bench/results] [--quick]
@@ -19,6 +20,8 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "bench"))
+from line_plot import line_plot  # noqa: E402
 
 
 def run(command):
@@ -61,8 +64,14 @@ def main():
     parser.add_argument("--mesh", default=str(ROOT.parent / "shared" / "data" / "meshes" / "lucy.obj"))
     parser.add_argument("--out", default=str(ROOT / "bench" / "results"))
     parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--plot-only", action="store_true", help="redraw the plots from OUT/scale.csv")
     args = parser.parse_args()
     out = Path(args.out)
+    if args.plot_only:
+        rows = [{"pipeline": r["pipeline"], "faces": int(r["faces"]), "threads": int(r["threads"]),
+                 "wall": float(r["wall_s"]), "peak_mb": float(r["peak_mb"])} for r in csv.DictReader(open(out / "scale.csv"))]
+        plot(out, rows)
+        return
     work = out / "scale_work"
     work.mkdir(parents=True, exist_ok=True)
     mesh = Path(args.mesh)
@@ -134,32 +143,20 @@ def main():
             f.write(f"| {row['pipeline']} | {row['faces']:,} | {row['threads']} | {row['wall']:.2f} | "
                     f"{row['peak_mb']:.0f} | {detail} |\n")
 
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("scale.py: matplotlib missing, no plot (apt-get install python3-matplotlib)", file=sys.stderr)
-        return
-    fig, axes = plt.subplots(1, 2, figsize=(9, 3.6))
-    for pipeline, colour in (("fill-holes", "tab:blue"), ("compress", "tab:red")):
-        for t, style in ((1, "--"), (2, "-")):
-            points = [(r["faces"], r["wall"], r["peak_mb"]) for r in rows if r["pipeline"] == pipeline and r["threads"] == t]
-            if not points:
-                continue
-            faces, walls, peaks = zip(*points)
-            axes[0].plot(faces, walls, style, color=colour, marker="o", label=f"{pipeline}, {t} thr")
-            axes[1].plot(faces, peaks, style, color=colour, marker="o", label=f"{pipeline}, {t} thr")
-    for ax, label in ((axes[0], "wall seconds"), (axes[1], "peak MB")):
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_xlabel("faces")
-        ax.set_ylabel(label)
-        ax.grid(True, which="both", alpha=0.3)
-    axes[0].legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(out / "scale.png", dpi=110)
+    plot(out, rows)
 
+
+def plot(out, rows):
+    """OUT/scale_time.png and OUT/scale_memory.png: log-log against faces; blue fill-holes, red
+    compress; dashed 1 thread, solid 2 (line_plot: no matplotlib needed)."""
+    for name, key in (("scale_time.png", "wall"), ("scale_memory.png", "peak_mb")):
+        series = []
+        for pipeline, colour in (("fill-holes", "blue"), ("compress", "red")):
+            for t in (1, 2):
+                points = [(r["faces"], r[key]) for r in rows if r["pipeline"] == pipeline and r["threads"] == t]
+                if points:
+                    series.append(([p[0] for p in points], [p[1] for p in points], colour, t == 1))
+        line_plot(str(out / name), series, x_log=True, y_log=True)
 
 if __name__ == "__main__":
     main()
