@@ -15,8 +15,8 @@ Meshes: data/bunny.obj (bundled) and ../shared/data/{meshes,textured} (the proje
 The global dictionary of the repair tables is learned from scans the tables do not repair.
 
 usage: bench/reproduce.py [--quick] [--only STEP,...] [--build build] [--out bench/results]
---quick: every step on small inputs (CI smoke, a few minutes on 2 cores); the full run takes about
-an hour on 2 cores. Needs a Release build with the bench programs (scripts/build.sh does it).
+--quick: every step on small inputs (CI smoke, about 2 min on 2 cores); the full run takes about
+15 min on 2 idle cores (820 s measured). Needs a Release build with the bench programs (scripts/build.sh does it).
 """
 import argparse
 import csv
