@@ -3,7 +3,7 @@
 // once and twice — each with 12 holes of radius 0.035 in unit-cube units (seeded; the subdivided
 // sizes subdivide the holed scan, so they have its holes exactly). Writes binary PLY:
 //   OUT/<stem>_<faces>.ply        the intact mesh      OUT/<stem>_<faces>_holes.ply   with holes
-// usage: make_scale_cases MESH OUT [--seed S]
+// usage: make_scale_cases MESH OUT [--seed S] [--levels N]   (N sizes, 1–4, smallest first; default 4)
 #include <pcl_patchdict/mesh_damage.h>
 #include <pcl_patchdict/mesh_io.h>
 #include <pcl_patchdict/mesh_hygiene.h>
@@ -12,6 +12,7 @@
 
 #include <pcl/surface/vtk_smoothing/vtk_mesh_quadric_decimation.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -49,15 +50,18 @@ void write(const TriangleMesh& mesh, const std::filesystem::path& path)
 int main(int argc, char** argv)
 {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: make_scale_cases MESH OUT [--seed S]\n");
+    std::fprintf(stderr, "usage: make_scale_cases MESH OUT [--seed S] [--levels N]\n");
     return 2;
   }
   const std::string input = argv[1];
   const std::filesystem::path out = argv[2];
   std::uint64_t seed = 1;
+  int levels = 4;
   for (int i = 3; i + 1 < argc; i += 2)
     if (std::string(argv[i]) == "--seed")
       seed = std::strtoull(argv[i + 1], nullptr, 10);
+    else if (std::string(argv[i]) == "--levels")
+      levels = std::max(1, std::min(4, std::atoi(argv[i + 1])));
   try {
     std::filesystem::create_directories(out);
     TriangleMesh mesh;
@@ -73,10 +77,10 @@ int main(int argc, char** argv)
     write(quarter, out / (name(quarter) + ".ply"));
     write(punchHoles(quarter, 12, radius, seed).mesh, out / (name(quarter) + "_holes.ply"));
     TriangleMesh level = mesh, holes = punchHoles(mesh, 12, radius, seed).mesh;
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; i + 1 < levels; ++i) {
       write(level, out / (name(level) + ".ply"));
       write(holes, out / (name(level) + "_holes.ply"));
-      if (i < 2) {
+      if (i + 2 < levels) {
         level = subdivideMidpoint(level);
         holes = subdivideMidpoint(holes);
       }

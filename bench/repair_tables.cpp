@@ -150,8 +150,9 @@ Result smoothingOracle(const TriangleMesh& truth, const TriangleMesh& noisy, boo
   return best;
 }
 
-/** The paper's local dictionary: 100 atoms learned (K-SVD) from the clean mesh's patches of side `side`
-  * on the patch stage's own layout (3 × mean edge and up; the side the repair used). */
+/** The paper's local dictionary: 100 atoms learned (K-SVD, as PatchCorrection::learnSelfSimilar) from
+  * the clean mesh's patches on its own layout at quad length = `side`, the patch side the
+  * self-similar repair of the same case used (0, no patches used: the automatic L). */
 PatchDictionary::ConstPtr localDictionary(const TriangleMesh& truth, double side)
 {
   PatchCorrectionParameters parameters;

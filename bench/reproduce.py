@@ -90,13 +90,12 @@ def global_dictionary(a, out, log):
     work.mkdir(exist_ok=True)
     training = GLOBAL_TRAINING[:2] if a.quick else GLOBAL_TRAINING
     pdd = work / ("global_%d.pdd" % len(training))
-    if not pdd.exists():
-        sets = []
-        for name in training:
-            pds = work / (Path(name).stem + ".pds")
-            run([a.tool, "patches", a.shared / "meshes" / name, "-o", pds, "--quad-length", "0.058", "--quiet"], log)
-            sets.append(pds)
-        run([a.tool, "learn", *sets, "-o", pdd, "--method", "ksvd", "--quiet"], log)
+    sets = []  # made again on every run: a cached dictionary could come from older code
+    for name in training:
+        pds = work / (Path(name).stem + ".pds")
+        run([a.tool, "patches", a.shared / "meshes" / name, "-o", pds, "--quad-length", "0.058", "--quiet"], log)
+        sets.append(pds)
+    run([a.tool, "learn", *sets, "-o", pdd, "--method", "ksvd", "--quiet"], log)
     return pdd, training
 
 
@@ -171,7 +170,8 @@ def main():
     unknown = [s for s in steps if s not in STEPS]
     if unknown:
         sys.exit("reproduce.py: unknown step(s) %s (steps: %s)" % (", ".join(unknown), ", ".join(STEPS)))
-    missing = [p for p in (a.tool, a.build / "bench" / "repair_tables") if not p.exists()]
+    missing = [p for p in (a.tool, *(a.build / "bench" / b for b in ("repair_tables", "hole_size_sweep",
+                                                                         "make_scale_cases"))) if not p.exists()]
     if missing:
         sys.exit("reproduce.py: %s not built — run scripts/build.sh first" % ", ".join(map(str, missing)))
     if not (a.shared / "meshes").is_dir():

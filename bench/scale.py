@@ -37,11 +37,14 @@ def measure(command):
     start = time.monotonic()
     pid = os.fork()
     if pid == 0:
-        os.close(read_end)
-        os.dup2(write_end, 1)
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, 2)
-        os.execvp(command[0], [str(c) for c in command])
+        try:
+            os.close(read_end)
+            os.dup2(write_end, 1)
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, 2)
+            os.execvp(str(command[0]), [str(c) for c in command])
+        finally:
+            os._exit(127)  # exec failed: never fall back into the parent's Python
     os.close(write_end)
     chunks = []
     while True:
@@ -78,19 +81,24 @@ def main():
     if not mesh.exists():
         sys.exit(f"scale.py: {mesh} not found (the scans are in ../shared/data/meshes)")
     stem = mesh.stem
-    if not (work / f"{stem}_1600k_holes.ply").exists() and not (work / f"{stem}_100k_holes.ply").exists():
-        run([args.cases_tool, str(mesh), str(work)])
-    sizes = sorted({p.stem.split("_")[1] for p in work.glob(f"{stem}_*k.ply")}, key=lambda s: int(s[:-1]))
-    if args.quick:
-        sizes = [s for s in sizes if int(s[:-1]) <= 100]
+    levels = 2 if args.quick else 4
+    prefix = f"{stem}_"
+
+    def sizes_present():
+        found = {p.stem[len(prefix):] for p in work.glob(f"{prefix}*k.ply")}
+        return sorted((s for s in found if s[:-1].isdigit()), key=lambda s: int(s[:-1]))
+
+    if len(sizes_present()) < levels:
+        run([args.cases_tool, str(mesh), str(work), "--levels", str(levels)])
+    sizes = sizes_present()[:levels]
     threads = [2] if args.quick else [1, 2]
 
-    # One dictionary for every compress run: 100 atoms learned from the smallest size.
+    # One dictionary for every compress run: 100 atoms learned from the smallest size, made again on
+    # every run (a cached one could come from older code).
     dictionary = work / "dictionary.pdd"
-    if not dictionary.exists():
-        run([args.tool, "patches", work / f"{stem}_{sizes[0]}.ply", "-o", work / "train.pds", "--quad-length", "0.05",
-             "--quiet"])
-        run([args.tool, "learn", work / "train.pds", "-o", dictionary, "--quiet"])
+    run([args.tool, "patches", work / f"{stem}_{sizes[0]}.ply", "-o", work / "train.pds", "--quad-length", "0.05",
+         "--quiet"])
+    run([args.tool, "learn", work / "train.pds", "-o", dictionary, "--quiet"])
 
     rows = []
     for size in sizes:

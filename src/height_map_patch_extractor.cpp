@@ -188,8 +188,8 @@ void HeightMapPatchExtractor::computeMesh(PatchSet& out) const
     for (std::ptrdiff_t p = 0; p < static_cast<std::ptrdiff_t>(seeds_.size()); ++p) {
       const Eigen::Vector3d& seed = seeds_[static_cast<std::size_t>(p)];
       const Eigen::Matrix3d& rotation = rotations_[static_cast<std::size_t>(p)];
-      // FLANN's order (by distance, ties broken its own way) does not matter: a bin keeps the
-      // candidate nearest the plane, and of equal ones the lowest face index (rule below).
+      // The (unsorted) search order does not matter: a bin keeps the candidate nearest the plane,
+      // and of equal ones the lowest face index (rule below).
       tree.radiusSearch(detail::toPointXYZ(seed), query_radius, neighbours, distances, 0);
       std::fill(best_abs.begin(), best_abs.end(), std::numeric_limits<double>::infinity());
       auto heights = out.heights.col(p);

@@ -33,6 +33,7 @@ double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(
 struct ReliefProbe {
   double quad_length = 0.0;     ///< of the layout probed
   double best_scale = 1.0;      ///< patch side of the best significant probe, × quad_length
+  double best_any_scale = 1.0;  ///< patch side of the best probe, significant or not
   double best_significant = 0.0, best_any = 0.0;  ///< gains
   double seconds_layout = 0.0, seconds_patches = 0.0, seconds_prediction = 0.0;  ///< summed over runs
 };
@@ -94,7 +95,10 @@ ReliefProbe probeRelief(const TriangleMesh& work, const std::vector<bool>& obser
     // A relief is where the dictionary predicts better by a margin that matters: the gain
     // alone would call a perfect sphere a relief (both errors near zero, their ratio large).
     const bool significant = check.biharmonic_rms - check.dictionary_rms >= p.relief_min_improvement * mean_edge_length;
-    result.best_any = std::max(result.best_any, check.gain);
+    if (check.gain > result.best_any) {
+      result.best_any = check.gain;
+      result.best_any_scale = scales[i];
+    }
     if (significant && check.gain > result.best_significant) {
       result.best_significant = check.gain;
       result.best_scale = scales[i];
@@ -385,20 +389,24 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
         if (forced_relief)
           r.relief_gain = probe.best_significant > 0.0 ? probe.best_significant : probe.best_any;
         patch_parameters.quad_length = relief_length;
-        patch_parameters.patch_scale = probe.best_scale;
+        // In auto mode the verdict was significant on the first probe; should no side of the second
+        // clear the margin, its best gain decides rather than the first side by default.
+        patch_parameters.patch_scale =
+            forced_relief || probe.best_significant > 0.0 ? probe.best_scale : probe.best_any_scale;
         patch_parameters.overlap = p.relief_overlap;
         patch_parameters.fit_scale = 0.0;
         patch_parameters.agreement_scale = 0.0;
+        r.seconds_check = secondsSince(check_start);
         // The probe's coarse shape and quads, reseeded at the relief overlap, not made again.
         reseedPatchLayout(work, p.relief_overlap, probe_layout);
         use_probe_layout = true;
-      } else if (shared_layout) {
-        use_probe_layout = true;  // exactly the layout the smooth settings would make
+      } else {
+        r.seconds_check = secondsSince(check_start);
+        use_probe_layout = shared_layout;  // exactly the layout the smooth settings would make
       }
       r.seconds_check_layout = probe.seconds_layout;
       r.seconds_check_patches = probe.seconds_patches;
       r.seconds_check_prediction = probe.seconds_prediction;
-      r.seconds_check = secondsSince(check_start);
     }
     const auto constraints = patchConstraints(work, observed, new_vertices, dictionary, patch_parameters, r.patches,
                                               nullptr, use_probe_layout ? &probe_layout : nullptr);

@@ -67,7 +67,7 @@ public:
     std::vector<double> relief_probe_factors{0.8, 1.2, 1.6};  ///< patch sides, × d (one layout: the smooth L, if automatic)
     double relief_probe_radius = 0.35;  ///< hidden disc radius of the probe, × d
     /// The verdict probe on the smooth settings' layout uses at most this many of its seeds, evenly
-    /// spaced (0: all): it needs tens of test patches, not thousands (lucy, 100k faces: 1.3 → 0.5 s).
+    /// spaced (0: all): it needs tens of test patches, not thousands (lucy, 100k faces: 1.3 → 0.6 s).
     /// A relief verdict is followed by a full probe that picks the patch side.
     int relief_probe_max_seeds = 600;
     double relief_gain = 1.3;  ///< (1.5 missed the sole at radius 0.05: gain 1.49)
