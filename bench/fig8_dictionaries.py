@@ -19,14 +19,13 @@ usage: bench/fig8_dictionaries.py [--tool build/pcl_patchdict] [--meshes ../shar
 import argparse
 import csv
 import os
-import subprocess
 import sys
 import tempfile
-import json
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
+from fig7_atoms import run as fig7_run  # noqa: E402
 from line_plot import line_plot  # noqa: E402
 
 # Training order for 8c: a fixed, mixed order of the scans other than the bunny.
@@ -36,10 +35,8 @@ QUICK_TRAINING = ["max_planck.obj", "fandisk.obj", "demosthenes.obj"]
 
 
 def run(tool, *args):
-    result = subprocess.run([tool, *[str(a) for a in args]], capture_output=True, text=True)
-    if result.returncode != 0:
-        sys.exit("failed: %s %s\n%s" % (tool, " ".join(map(str, args)), result.stderr))
-    return json.loads(result.stdout) if "--json" in args else None
+    """fig7_atoms.run, with any argument type."""
+    return fig7_run(tool, *[str(a) for a in args])
 
 
 def main():

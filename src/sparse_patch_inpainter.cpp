@@ -35,23 +35,18 @@ struct ReliefProbe {
   double best_scale = 1.0;      ///< patch side of the best significant probe, × quad_length
   double best_any_scale = 1.0;  ///< patch side of the best probe, significant or not
   double best_significant = 0.0, best_any = 0.0;  ///< gains
-  double seconds_layout = 0.0, seconds_patches = 0.0, seconds_prediction = 0.0;  ///< summed over runs
+  double seconds_layout = 0.0, seconds_patches = 0.0, seconds_prediction = 0.0;
 };
 
 /** Lays quads of side `quad_length` (overlap k) on `work` into `layout`, widens the patches on its
   * seeds to each probe side (relief_probe_factors × d), and asks checkPatchPrediction whether the
-  * dictionary predicts a hidden disc better than a biharmonic fill. `previous`: times to add to. */
+  * dictionary predicts a hidden disc better than a biharmonic fill. */
 ReliefProbe probeRelief(const TriangleMesh& work, const std::vector<bool>& observed,
                         const PatchDictionary::ConstPtr& dictionary, const SparsePatchInpainter::Parameters& p,
                         double median_diameter, double mean_edge_length, double quad_length, int overlap,
-                        PatchLayout& layout, const ReliefProbe* previous = nullptr, int max_seeds = 0)
+                        PatchLayout& layout, int max_seeds = 0)
 {
   ReliefProbe result;
-  if (previous) {
-    result.seconds_layout = previous->seconds_layout;
-    result.seconds_patches = previous->seconds_patches;
-    result.seconds_prediction = previous->seconds_prediction;
-  }
   result.quad_length = quad_length;
   auto t = Clock::now();
   PatchCorrectionParameters probe = p;
@@ -61,7 +56,7 @@ ReliefProbe probeRelief(const TriangleMesh& work, const std::vector<bool>& obser
   for (double factor : p.relief_probe_factors)
     scales.push_back(factor * median_diameter / quad_length);
   computePatchLayout(work, PatchCorrection::layoutParameters(probe, quad_length), layout);
-  result.seconds_layout += secondsSince(t);
+  result.seconds_layout = secondsSince(t);
   t = Clock::now();
   PatchLayout subset;  // evenly spaced seeds of the layout, when it has more than max_seeds
   const bool subsample = max_seeds > 0 && layout.seeds.size() > static_cast<std::size_t>(max_seeds);
@@ -82,7 +77,7 @@ ReliefProbe probeRelief(const TriangleMesh& work, const std::vector<bool>& obser
   correction.setParameters(probe);
   correction.setLayout(subsample ? subset : layout);
   const std::vector<PatchSet> sets = correction.observedPatchesAtScales(scales);
-  result.seconds_patches += secondsSince(t);
+  result.seconds_patches = secondsSince(t);
   t = Clock::now();
   for (std::size_t i = 0; i < sets.size(); ++i) {
     // The probe hides a disc of the holes' radius (the loop's diameter d overstates it by the
@@ -104,7 +99,7 @@ ReliefProbe probeRelief(const TriangleMesh& work, const std::vector<bool>& obser
       result.best_scale = scales[i];
     }
   }
-  result.seconds_prediction += secondsSince(t);
+  result.seconds_prediction = secondsSince(t);
   return result;
 }
 
@@ -375,17 +370,24 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
       if (!forced_relief)
         probe = probeRelief(work, observed, dictionary, p, median_diameter, r.mean_edge_length,
                             shared_layout ? patch_parameters.quad_length : relief_length,
-                            shared_layout ? patch_parameters.overlap : 1, probe_layout, nullptr,
+                            shared_layout ? patch_parameters.overlap : 1, probe_layout,
                             shared_layout ? p.relief_probe_max_seeds : 0);
+      r.seconds_check_layout = probe.seconds_layout;
+      r.seconds_check_patches = probe.seconds_patches;
+      r.seconds_check_prediction = probe.seconds_prediction;
       r.relief_gain = probe.best_significant > 0.0 ? probe.best_significant : probe.best_any;
       r.relief = forced_relief || probe.best_significant >= p.relief_gain;
       if (r.relief) {
         // Relief: quads at the smallest probe's side (0.8 d), the best probe's patch side chosen on
         // them, the relief overlap. (Choosing on the smooth settings' denser quads instead gave
-        // 1–3 % more error on the harness's sole, knurl and tiles holes, knurl 0.035 +32 %.)
-        if (forced_relief || std::abs(relief_length - probe.quad_length) > 1e-12 * relief_length)
+        // 1 % more error on average on the harness's sole, knurl and tiles holes, knurl 0.035 +32 %.)
+        if (forced_relief || std::abs(relief_length - probe.quad_length) > 1e-12 * relief_length) {
           probe = probeRelief(work, observed, dictionary, p, median_diameter, r.mean_edge_length, relief_length, 1,
-                              probe_layout, &probe);
+                              probe_layout);
+          r.seconds_check_layout += probe.seconds_layout;
+          r.seconds_check_patches += probe.seconds_patches;
+          r.seconds_check_prediction += probe.seconds_prediction;
+        }
         if (forced_relief)
           r.relief_gain = probe.best_significant > 0.0 ? probe.best_significant : probe.best_any;
         patch_parameters.quad_length = relief_length;
@@ -404,9 +406,6 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
         r.seconds_check = secondsSince(check_start);
         use_probe_layout = shared_layout;  // exactly the layout the smooth settings would make
       }
-      r.seconds_check_layout = probe.seconds_layout;
-      r.seconds_check_patches = probe.seconds_patches;
-      r.seconds_check_prediction = probe.seconds_prediction;
     }
     const auto constraints = patchConstraints(work, observed, new_vertices, dictionary, patch_parameters, r.patches,
                                               nullptr, use_probe_layout ? &probe_layout : nullptr);
