@@ -6,6 +6,7 @@
 // noisy input itself: nothing of a noisy input is intact, and measured on scans such a dictionary
 // makes the result worse than the base (README "Measured").
 #include "cli.h"
+#include "cloud_input.h"
 #include "repair_options.h"
 
 #include <pcl_patchdict/normalization.h>
@@ -26,8 +27,22 @@ const char* const kUsage =
 
 }  // namespace
 
+int runCloudDenoise(const std::vector<std::string>& raw);
+
 int runDenoise(const std::vector<std::string>& raw)
 {
+  // A point cloud (.pcd, face-less .ply) takes the cloud path, with its own options.
+  {
+    auto values = commonValueOptions();
+    values.insert(repairValueOptions().begin(), repairValueOptions().end());
+    values.insert({"output", "noise", "noise-edges", "error-factor", "fidelity", "base-iterations", "discrepancy",
+                   "bandwidth", "outlier-neighbours", "outlier-std", "residual-outliers"});
+    auto flags = commonFlagOptions();
+    flags.insert({"no-patches", "self-similar", "no-outlier-filter"});
+    const Arguments probe(raw, values, flags);
+    if (probe.positionals().size() == 1 && isCloudFile(probe.positionals()[0]))
+      return runCloudDenoise(raw);
+  }
   const RepairCommandLine line = parseRepairCommand(
       raw, kUsage, {"noise", "noise-edges", "error-factor", "fidelity", "base-iterations", "discrepancy"},
       {"self-similar"}, true);

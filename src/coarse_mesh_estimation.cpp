@@ -228,12 +228,32 @@ NeighbourGraph nearestNeighbours(const typename pcl::PointCloud<PointT>::ConstPt
   return graph;
 }
 
+// Poisson depth from the sampling density: the octree cell (Poisson's cube is 1.1 × the samples'
+// bounding cube) no larger than kCellPerSpacing × the mean spacing; clamped to [5, 10].
+constexpr double kCellPerSpacing = 2.0;
+
+int automaticPoissonDepth(const pcl::PointCloud<pcl::PointNormal>& cloud, double mean_spacing)
+{
+  Eigen::Vector3f lo = cloud[0].getVector3fMap(), hi = lo;
+  for (const auto& p : cloud) {
+    lo = lo.cwiseMin(p.getVector3fMap());
+    hi = hi.cwiseMax(p.getVector3fMap());
+  }
+  const double extent = static_cast<double>((hi - lo).maxCoeff());
+  if (!(mean_spacing > 0.0) || !(extent > 0.0))
+    return 5;
+  const double depth = std::ceil(std::log2(1.1 * extent / (kCellPerSpacing * mean_spacing)));
+  return static_cast<int>(std::clamp(depth, 5.0, 10.0));
+}
+
+}  // namespace
+
 // Hoppe et al. 1992, section 3.3: orientation propagated along a minimum spanning tree of the
 // (symmetrised) kNN graph with cost 1 − |n_i·n_j|, so that it crosses between nearly parallel
 // tangent planes first; each component's root is its highest point, its normal turned to +z.
 // Points without a normal (zero vector) are passed through at the highest cost and take the mean
 // oriented normal of their neighbours afterwards.
-std::size_t propagateOrientation(const pcl::PointCloud<pcl::PointXYZ>& cloud, const std::vector<std::vector<int>>& knn,
+std::size_t propagateNormalOrientation(const pcl::PointCloud<pcl::PointXYZ>& cloud, const std::vector<std::vector<int>>& knn,
                                  std::vector<Eigen::Vector3d>& normals)
 {
   const std::size_t n = normals.size();
@@ -295,26 +315,6 @@ std::size_t propagateOrientation(const pcl::PointCloud<pcl::PointXYZ>& cloud, co
   return flipped;
 }
 
-// Poisson depth from the sampling density: the octree cell (Poisson's cube is 1.1 × the samples'
-// bounding cube) no larger than kCellPerSpacing × the mean spacing; clamped to [5, 10].
-constexpr double kCellPerSpacing = 2.0;
-
-int automaticPoissonDepth(const pcl::PointCloud<pcl::PointNormal>& cloud, double mean_spacing)
-{
-  Eigen::Vector3f lo = cloud[0].getVector3fMap(), hi = lo;
-  for (const auto& p : cloud) {
-    lo = lo.cwiseMin(p.getVector3fMap());
-    hi = hi.cwiseMax(p.getVector3fMap());
-  }
-  const double extent = static_cast<double>((hi - lo).maxCoeff());
-  if (!(mean_spacing > 0.0) || !(extent > 0.0))
-    return 5;
-  const double depth = std::ceil(std::log2(1.1 * extent / (kCellPerSpacing * mean_spacing)));
-  return static_cast<int>(std::clamp(depth, 5.0, 10.0));
-}
-
-}  // namespace
-
 std::size_t estimateOrientedNormals(const pcl::PointCloud<pcl::PointXYZ>& cloud, int k,
                                     pcl::PointCloud<pcl::PointNormal>& out, double* mean_spacing)
 {
@@ -342,7 +342,7 @@ std::size_t estimateOrientedNormals(const pcl::PointCloud<pcl::PointXYZ>& cloud,
     if (normal.allFinite() && normal.norm() > 0.5)
       normals[i] = normal.normalized();
   }
-  const std::size_t flipped = propagateOrientation(cloud, graph.neighbours, normals);
+  const std::size_t flipped = propagateNormalOrientation(cloud, graph.neighbours, normals);
 
   out.clear();
   out.resize(cloud.size());

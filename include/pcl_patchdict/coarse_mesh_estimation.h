@@ -8,6 +8,9 @@
 #include <pcl/point_types.h>
 
 #include <memory>
+#include <vector>
+
+#include <Eigen/Core>
 
 namespace pcl {
 namespace patchdict {
@@ -146,6 +149,14 @@ double meanDihedralAngle(const TriangleMesh& mesh);
   * `mean_spacing`, if given, receives the mean nearest-neighbour distance. Deterministic. */
 std::size_t estimateOrientedNormals(const pcl::PointCloud<pcl::PointXYZ>& cloud, int k,
                                     pcl::PointCloud<pcl::PointNormal>& out, double* mean_spacing = nullptr);
+
+/** \brief Consistent orientation of unoriented normals (Hoppe et al. 1992, section 3.3): a minimum
+  * spanning tree of the symmetrised kNN graph `knn` with edge cost 1 − |n_i·n_j|, rooted at the
+  * highest point (largest z) of each component, whose normal is turned to +z; each child is flipped
+  * to agree with its parent. Zero normals take the mean of their oriented neighbours. Returns the
+  * number of flips. Deterministic. */
+std::size_t propagateNormalOrientation(const pcl::PointCloud<pcl::PointXYZ>& cloud, const std::vector<std::vector<int>>& knn,
+                                       std::vector<Eigen::Vector3d>& normals);
 
 }  // namespace patchdict
 }  // namespace pcl

@@ -4,6 +4,10 @@
 
 #include <pcl_patchdict/triangle_mesh.h>
 
+#include <pcl/PCLPointCloud2.h>
+
+#include <Eigen/Geometry>
+
 #include <string>
 
 namespace pcl {
@@ -53,6 +57,16 @@ struct WriteOptions {
   * appears whole or not at all. Throws Error, also for a mesh no reader would take back (no
   * vertices, non-finite coordinates, face indices out of range). */
 void writeMesh(const std::string& path, const TriangleMesh& mesh, const WriteOptions& options = {});
+
+/** \brief A PCD cloud with every field it holds (colour, intensity, labels, …), its organisation
+  * (width × height, NaN points kept) and its viewpoint — for tools that change a few fields and
+  * must carry the rest. The file is checked as readMesh checks it; x, y and z must be single
+  * float32 or float64 fields. Throws Error with one line naming the file otherwise. */
+void readPointCloudBlob(const std::string& path, pcl::PCLPointCloud2& blob, Eigen::Vector4f& origin,
+                        Eigen::Quaternionf& orientation);
+/** Writes a binary PCD atomically (whole file or nothing, as writeMesh). */
+void writePointCloudBlob(const std::string& path, const pcl::PCLPointCloud2& blob, const Eigen::Vector4f& origin,
+                         const Eigen::Quaternionf& orientation);
 
 }  // namespace patchdict
 }  // namespace pcl

@@ -4,6 +4,8 @@
 
 #include "formats.h"
 
+#include <pcl_patchdict/atomic_file.h>
+
 #include <algorithm>
 #include <exception>
 #include <limits>
@@ -276,5 +278,52 @@ void writePcd(const std::string& target, const std::string& file_path, const Tri
 }
 
 }  // namespace io_detail
+
+void readPointCloudBlob(const std::string& path, pcl::PCLPointCloud2& blob, Eigen::Vector4f& origin,
+                        Eigen::Quaternionf& orientation)
+{
+  const std::string bytes = readWholeFile(path);
+  io_detail::checkPcd(path, bytes);
+  pcl::PCDReader reader;
+  int version = 0;
+  try {
+    io_detail::QuietPcl quiet;
+    if (reader.read(path, blob, origin, orientation, version) < 0)
+      io_detail::failRead(path, "not a valid PCD file (bad or truncated data)");
+  }
+  catch (const Error&) {
+    throw;
+  }
+  catch (const std::exception&) {
+    io_detail::failRead(path, "not a valid PCD file");
+  }
+  for (const char* name : {"x", "y", "z"}) {
+    const auto field = std::find_if(blob.fields.begin(), blob.fields.end(),
+                                    [&](const pcl::PCLPointField& f) { return f.name == name; });
+    if (field == blob.fields.end())
+      io_detail::failRead(path, "the PCD file has no x/y/z fields");
+    if (field->count != 1 || (field->datatype != pcl::PCLPointField::FLOAT32 && field->datatype != pcl::PCLPointField::FLOAT64))
+      io_detail::failRead(path, std::string("the PCD field ") + name + " is not one float32 or float64 value");
+  }
+}
+
+void writePointCloudBlob(const std::string& path, const pcl::PCLPointCloud2& blob, const Eigen::Vector4f& origin,
+                         const Eigen::Quaternionf& orientation)
+{
+  writeFileAtomically(path, [&](const std::string& temporary) {
+    pcl::PCDWriter writer;
+    int status = -1;
+    try {
+      io_detail::QuietPcl quiet;
+      status = writer.writeBinary(temporary, blob, origin, orientation);
+    }
+    catch (const std::exception&) {
+      status = -1;
+    }
+    if (status < 0)
+      throw Error("cannot write '" + path + "': PCL failed to write the PCD file");
+  });
+}
+
 }  // namespace patchdict
 }  // namespace pcl

@@ -1,0 +1,144 @@
+// Cloud inputs (see cloud_input.h).
+#include "cloud_input.h"
+
+#include <pcl_patchdict/error.h>
+#include <pcl_patchdict/mesh_io.h>
+
+#include <pcl/conversions.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+namespace pcl {
+namespace patchdict {
+namespace cli {
+
+bool isCloudFile(const std::string& path)
+{
+  const MeshFormat format = formatFromPath(path);
+  if (format == MeshFormat::PCD)
+    return true;
+  if (format != MeshFormat::PLY)
+    return false;
+  // The PLY header only: "element face N" with N > 0 makes it a mesh. Unreadable headers go to the
+  // mesh reader, which says what is wrong.
+  std::ifstream file(path, std::ios::binary);
+  if (!file)
+    return false;
+  std::string line;
+  bool faces = false, ended = false;
+  for (int lines = 0; lines < 10000 && std::getline(file, line); ++lines) {
+    if (!line.empty() && line.back() == '\r')
+      line.pop_back();
+    std::istringstream words(line);
+    std::string keyword, element;
+    long long count = 0;
+    words >> keyword;
+    if (keyword == "end_header") {
+      ended = true;
+      break;
+    }
+    if (keyword == "element" && (words >> element >> count) && element == "face" && count > 0)
+      faces = true;
+  }
+  return ended && !faces;
+}
+
+CloudInput loadCloudInput(const std::string& path)
+{
+  CloudInput input;
+  input.cloud.reset(new pcl::PointCloud<pcl::PointNormal>);
+  pcl::PointCloud<pcl::PointNormal>& cloud = *input.cloud;
+  if (formatFromPath(path) == MeshFormat::PCD) {
+    input.from_pcd = true;
+    readPointCloudBlob(path, input.blob, input.origin, input.orientation);
+    const auto has = [&](const char* name) {
+      return std::any_of(input.blob.fields.begin(), input.blob.fields.end(),
+                         [&](const pcl::PCLPointField& f) { return f.name == name; });
+    };
+    input.has_normals = has("normal_x") && has("normal_y") && has("normal_z");
+    // x/y/z may be float64 in a PCD; PCL's conversion wants float32: convert by hand.
+    cloud.resize(static_cast<std::size_t>(input.blob.width) * input.blob.height);
+    cloud.width = input.blob.width;
+    cloud.height = input.blob.height;
+    const auto field = [&](const char* name) -> const pcl::PCLPointField* {
+      for (const auto& f : input.blob.fields)
+        if (f.name == name && f.count == 1 &&
+            (f.datatype == pcl::PCLPointField::FLOAT32 || f.datatype == pcl::PCLPointField::FLOAT64))
+          return &f;
+      return nullptr;
+    };
+    const pcl::PCLPointField* fields[6] = {field("x"), field("y"), field("z"),
+                                           field("normal_x"), field("normal_y"), field("normal_z")};
+    input.has_normals = input.has_normals && fields[3] && fields[4] && fields[5];
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      double v[6] = {0, 0, 0, 0, 0, 0};
+      for (int f = 0; f < (input.has_normals ? 6 : 3); ++f) {
+        const std::uint8_t* at = input.blob.data.data() + i * input.blob.point_step + fields[f]->offset;
+        if (fields[f]->datatype == pcl::PCLPointField::FLOAT32) {
+          float x;
+          std::memcpy(&x, at, sizeof x);
+          v[f] = x;
+        } else {
+          std::memcpy(&v[f], at, sizeof v[f]);
+        }
+      }
+      pcl::PointNormal& p = cloud[i];
+      p.x = static_cast<float>(v[0]);
+      p.y = static_cast<float>(v[1]);
+      p.z = static_cast<float>(v[2]);
+      const bool normal_ok = std::isfinite(v[3]) && std::isfinite(v[4]) && std::isfinite(v[5]);
+      p.normal_x = normal_ok ? static_cast<float>(v[3]) : 0.0f;
+      p.normal_y = normal_ok ? static_cast<float>(v[4]) : 0.0f;
+      p.normal_z = normal_ok ? static_cast<float>(v[5]) : 0.0f;
+      p.curvature = 0.0f;
+    }
+    cloud.sensor_origin_ = input.origin;
+    cloud.sensor_orientation_ = input.orientation;
+  } else {
+    TriangleMesh mesh;
+    readMesh(path, mesh);
+    if (mesh.numFaces() > 0)
+      throw Error("'" + path + "' is a mesh, not a cloud");
+    input.has_normals = mesh.hasNormals();
+    cloud.resize(mesh.vertices.size());
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+      pcl::PointNormal& p = cloud[i];
+      p.x = static_cast<float>(mesh.vertices[i].x());
+      p.y = static_cast<float>(mesh.vertices[i].y());
+      p.z = static_cast<float>(mesh.vertices[i].z());
+      const Eigen::Vector3d n = input.has_normals ? mesh.normals[i] : Eigen::Vector3d::Zero();
+      p.normal_x = static_cast<float>(n.x());
+      p.normal_y = static_cast<float>(n.y());
+      p.normal_z = static_cast<float>(n.z());
+      p.curvature = 0.0f;
+    }
+    cloud.width = static_cast<std::uint32_t>(cloud.size());
+    cloud.height = 1;
+  }
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d high = -low;
+  std::size_t finite = 0;
+  for (const auto& p : cloud) {
+    const Eigen::Vector3d x(p.x, p.y, p.z);
+    if (!x.allFinite())
+      continue;
+    low = low.cwiseMin(x);
+    high = high.cwiseMax(x);
+    ++finite;
+  }
+  if (finite == 0)
+    throw Error("'" + path + "' holds no finite point");
+  cloud.is_dense = finite == cloud.size();
+  input.scale = std::max((high - low).maxCoeff(), 1e-300);
+  if (!(input.scale > 0.0) || !std::isfinite(input.scale))
+    throw Error("'" + path + "': the points' bounding box is degenerate");
+  return input;
+}
+
+}  // namespace cli
+}  // namespace patchdict
+}  // namespace pcl

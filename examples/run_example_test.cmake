@@ -1,0 +1,66 @@
+# Runs one example on an input made at test time and checks its output (cmake -P; see CMakeLists.txt).
+# -DCASE=cloud_pipeline|mesh_repair -DEXAMPLE=... -DMAKE_INPUTS=... -DTOOL=pcl_patchdict -DMESH=bunny.obj
+# -DWORK_DIR=...
+cmake_minimum_required(VERSION 3.16)
+foreach(var CASE EXAMPLE MAKE_INPUTS TOOL MESH WORK_DIR)
+  if(NOT DEFINED ${var})
+    message(FATAL_ERROR "run_example_test.cmake: -D${var}=... missing")
+  endif()
+endforeach()
+file(REMOVE_RECURSE "${WORK_DIR}")
+file(MAKE_DIRECTORY "${WORK_DIR}")
+
+# run(<step> <output variable> command...): fails the test on a non-zero exit code.
+function(run step out)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr)
+  message(STATUS "${step}: ${stdout}${stderr}")
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${step} failed (exit code ${rc}): ${ARGN}")
+  endif()
+  set(${out} "${stdout}" PARENT_SCOPE)
+endfunction()
+
+# info(<file> <prefix>): <prefix>_faces and <prefix>_loops from `pcl_patchdict info --json`.
+function(info file prefix)
+  run("info ${file}" json "${TOOL}" info "${file}" --json)
+  foreach(key faces boundary_loops)
+    if(NOT json MATCHES "\"${key}\": ([0-9]+)")
+      message(FATAL_ERROR "no \"${key}\" in the info of ${file}: ${json}")
+    endif()
+    set(${prefix}_${key} ${CMAKE_MATCH_1} PARENT_SCOPE)
+  endforeach()
+endfunction()
+
+function(require condition)
+  if(NOT (${ARGN}))
+    message(FATAL_ERROR "check failed: ${condition}")
+  endif()
+  message(STATUS "ok: ${condition}")
+endfunction()
+
+if(CASE STREQUAL "cloud_pipeline")
+  set(input "${WORK_DIR}/noisy_bunny.pcd")
+  set(output "${WORK_DIR}/bunny_poisson.ply")
+  run("make input" ignored "${MAKE_INPUTS}" cloud "${MESH}" "${input}")
+  run("${CASE}" ignored "${EXAMPLE}" "${input}" "${output}")
+  require("output ${output} exists" EXISTS "${output}")
+  info("${output}" out)
+  require("the Poisson mesh has more than 1000 triangles (${out_faces})" out_faces GREATER 1000)
+elseif(CASE STREQUAL "mesh_repair")
+  set(input "${WORK_DIR}/holed_bunny.ply")
+  set(output "${WORK_DIR}/repaired_bunny.ply")
+  run("make input" ignored "${MAKE_INPUTS}" holes "${MESH}" "${input}")
+  run("${CASE}" ignored "${EXAMPLE}" "${input}" "${output}")
+  require("output ${output} exists" EXISTS "${output}")
+  info("${MESH}" original)
+  info("${input}" in)
+  info("${output}" out)
+  # The scan's own openings are in both; the punched holes are the loops the input has in excess.
+  require("holes were punched (${in_boundary_loops} boundary loops, the original ${original_boundary_loops})"
+          in_boundary_loops GREATER original_boundary_loops)
+  require("the output has more faces (${out_faces}) than the input (${in_faces})" out_faces GREATER in_faces)
+  require("no punched hole left open (${out_boundary_loops} boundary loops, at most ${original_boundary_loops})"
+          NOT out_boundary_loops GREATER original_boundary_loops)
+else()
+  message(FATAL_ERROR "run_example_test.cmake: unknown CASE '${CASE}'")
+endif()

@@ -1,0 +1,331 @@
+// SparsePatchCloudInpainter: the type-free core (detail::denoiseCloud) and the explicit
+// instantiations for PCL's common point types (as PCL's own modules do).
+#include <pcl_patchdict/coarse_mesh_estimation.h>
+#include <pcl_patchdict/error.h>
+#include <pcl_patchdict/impl/sparse_patch_cloud_inpainter.hpp>
+#include <pcl_patchdict/sparse_patch_cloud_inpainter.h>
+
+#include <pcl/search/kdtree.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace pcl {
+namespace patchdict {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+int threadCount(int requested)
+{
+#ifdef _OPENMP
+  return requested > 0 ? requested : omp_get_max_threads();
+#else
+  (void)requested;
+  return 1;
+#endif
+}
+
+void checkParameters(const CloudDenoisingParameters& p)
+{
+  const auto bad = [](double x) { return !std::isfinite(x) || x < 0.0; };
+  if (p.outlier_filter && (p.outlier_neighbours < 1 || p.outlier_neighbours > 1000 || bad(p.outlier_std)))
+    throw Error("outlier filter: neighbours must be in [1, 1000] and the deviation multiplier finite and ≥ 0");
+  if (bad(p.noise_sigma) || bad(p.bandwidth) || bad(p.residual_outlier_factor))
+    throw Error("cloud denoising: noise sigma, bandwidth and outlier factor must be finite and ≥ 0");
+  if (p.bandwidth == 0.0 && p.bandwidth_candidates.empty())
+    throw Error("cloud denoising: an automatic bandwidth needs candidates");
+  for (const double c : p.bandwidth_candidates)
+    if (!(c > 0.0) || !std::isfinite(c) || c > 1000.0)
+      throw Error("cloud denoising: bandwidth candidates must be in (0, 1000] spacings");
+  if (p.noise_sample < 100)
+    throw Error("cloud denoising: the noise sample must hold at least 100 points");
+  if (p.min_neighbours < 6 || p.max_neighbours < p.min_neighbours || p.max_neighbours > 4096)
+    throw Error("cloud denoising: neighbours must satisfy 6 ≤ min ≤ max ≤ 4096");
+}
+
+double median(std::vector<double> values)
+{
+  if (values.empty())
+    return 0.0;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+}  // namespace
+
+namespace detail {
+
+void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals,
+                  const std::vector<std::size_t>& queries, const KnnSearch& knn,
+                  const RadiusNeighbourSearch& radius, const CloudDenoisingParameters& parameters,
+                  bool want_normals, const Eigen::Vector3d* viewpoint, std::vector<char>& kept,
+                  std::vector<Eigen::Vector3d>& out_positions, std::vector<Eigen::Vector3d>& out_normals,
+                  CloudDenoisingReport& report)
+{
+  checkParameters(parameters);
+  if (!normals.empty() && normals.size() != points.size())
+    throw Error("cloud denoising: one normal per point is needed");
+  const int threads = threadCount(parameters.num_threads);
+  const std::size_t nq = queries.size();
+  report.input_points = nq;
+  kept.assign(nq, 0);
+  out_positions.assign(nq, Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
+  out_normals.assign(nq, Eigen::Vector3d::Zero());
+
+  // 1. Pre-filter and spacing, from the same k nearest neighbours.
+  auto start = Clock::now();
+  std::vector<char> usable(points.size(), 0);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    usable[i] = points[i].allFinite() ? 1 : 0;
+  std::vector<char> finite(nq, 0);
+  for (std::size_t q = 0; q < nq; ++q)
+    finite[q] = (queries[q] < points.size() && usable[queries[q]]) ? 1 : 0;
+  const int k = parameters.outlier_filter ? parameters.outlier_neighbours : 1;
+  std::vector<double> mean_distance(nq, 0.0), nearest(nq, 0.0);
+#pragma omp parallel num_threads(threads)
+  {
+    pcl::Indices found;
+    std::vector<float> squared;
+#pragma omp for schedule(dynamic, 1024)
+    for (std::ptrdiff_t s = 0; s < static_cast<std::ptrdiff_t>(nq); ++s) {
+      const auto q = static_cast<std::size_t>(s);
+      if (!finite[q])
+        continue;
+      knn(queries[q], k + 1, found, squared);
+      double sum = 0.0;
+      int counted = 0;
+      for (std::size_t j = 0; j < found.size() && counted < k; ++j) {
+        if (static_cast<std::size_t>(found[j]) == queries[q])
+          continue;
+        const double d = std::sqrt(static_cast<double>(squared[j]));
+        if (nearest[q] == 0.0 && d > 0.0)
+          nearest[q] = d;
+        sum += d;
+        ++counted;
+      }
+      mean_distance[q] = counted ? sum / counted : 0.0;
+    }
+  }
+  std::vector<char> passed(finite);
+  if (parameters.outlier_filter) {
+    double mean = 0.0, square = 0.0;
+    std::size_t count = 0;
+    for (std::size_t q = 0; q < nq; ++q)
+      if (finite[q]) {
+        mean += mean_distance[q];
+        square += mean_distance[q] * mean_distance[q];
+        ++count;
+      }
+    mean /= static_cast<double>(std::max<std::size_t>(count, 1));
+    const double deviation = std::sqrt(std::max(0.0, square / static_cast<double>(std::max<std::size_t>(count, 1)) - mean * mean));
+    // Floor at 1.5 × the mean: on a regular grid (a depth image) the deviation is tiny and the rim's
+    // slightly larger distances would otherwise count as outliers.
+    const double threshold = std::max(mean + parameters.outlier_std * deviation, 1.5 * mean);
+    for (std::size_t q = 0; q < nq; ++q)
+      if (finite[q] && mean_distance[q] > threshold) {
+        passed[q] = 0;
+        usable[queries[q]] = 0;
+        ++report.outlier_filter_removed;
+      }
+  }
+  std::size_t finite_count = 0, spacing_count = 0;
+  for (std::size_t q = 0; q < nq; ++q) {
+    finite_count += finite[q] ? 1 : 0;
+    if (passed[q] && nearest[q] > 0.0) {
+      report.mean_spacing += nearest[q];
+      ++spacing_count;
+    }
+  }
+  report.nonfinite_points = nq - finite_count;
+  if (spacing_count == 0)
+    throw Error("cloud denoising: every point coincides with its neighbours; no spacing to work at");
+  report.mean_spacing /= static_cast<double>(spacing_count);
+  const double s = report.mean_spacing;
+  report.seconds_outliers = secondsSince(start);
+
+  // 2. Noise level and bandwidth, over an evenly spaced sample of the kept points.
+  start = Clock::now();
+  std::vector<std::size_t> kept_queries;
+  kept_queries.reserve(nq);
+  for (std::size_t q = 0; q < nq; ++q)
+    if (passed[q])
+      kept_queries.push_back(q);
+  LocalQuadricParameters fit_parameters;
+  fit_parameters.min_neighbours = parameters.min_neighbours;
+  fit_parameters.max_neighbours = parameters.max_neighbours;
+  fit_parameters.num_threads = threads;
+  const std::size_t stride = std::max<std::size_t>(1, kept_queries.size() / static_cast<std::size_t>(parameters.noise_sample));
+  std::vector<std::size_t> sample;
+  for (std::size_t j = 0; j < kept_queries.size(); j += stride)
+    sample.push_back(queries[kept_queries[j]]);
+  std::vector<LocalQuadricFit> sample_fits;
+  if (parameters.noise_sigma > 0.0) {
+    report.noise_sigma = parameters.noise_sigma;
+  } else {
+    // σ̂ = 1.4826 × median |leave-one-out residual| at h = 3 s, less the share of it that is the
+    // prediction's own variance (≈ the mean leverage of the same fit with the sample included).
+    fit_parameters.bandwidth = 3.0 * s;
+    fitLocalQuadrics(points, usable, radius, sample, fit_parameters, true, sample_fits);
+    std::vector<double> residuals;
+    for (const auto& fit : sample_fits)
+      if (fit.valid)
+        residuals.push_back(std::abs(fit.residual));
+    fitLocalQuadrics(points, usable, radius, sample, fit_parameters, false, sample_fits);
+    double leverage = 0.0;
+    std::size_t counted = 0;
+    for (const auto& fit : sample_fits)
+      if (fit.valid) {
+        leverage += fit.leverage;
+        ++counted;
+      }
+    leverage = counted ? leverage / static_cast<double>(counted) : 0.0;
+    report.noise_sigma = 1.4826 * median(std::move(residuals)) / std::sqrt(1.0 + leverage);
+    report.noise_estimated = true;
+  }
+  const double sigma = report.noise_sigma;
+  if (parameters.bandwidth > 0.0) {
+    report.bandwidth = parameters.bandwidth;
+  } else {
+    // Stein's unbiased risk estimate of the heights' mean squared error over the sample, for each
+    // candidate h (Stein 1981; for local regression, e.g. Loader, "Local regression and likelihood",
+    // 1999, ch. 10): mean r² − σ² + 2σ²·mean leverage; residuals clipped at 4σ (outliers are not
+    // the smoother's business). The smallest wins.
+    double best = std::numeric_limits<double>::infinity();
+    const double clip = 16.0 * sigma * sigma;
+    for (const double factor : parameters.bandwidth_candidates) {
+      fit_parameters.bandwidth = factor * s;
+      fitLocalQuadrics(points, usable, radius, sample, fit_parameters, false, sample_fits);
+      double squared = 0.0, leverage = 0.0;
+      std::size_t counted = 0;
+      for (const auto& fit : sample_fits)
+        if (fit.valid) {
+          squared += std::min(fit.residual * fit.residual, clip);
+          leverage += fit.leverage;
+          ++counted;
+        }
+      if (counted == 0)
+        continue;
+      const double risk = squared / static_cast<double>(counted) - sigma * sigma +
+                          2.0 * parameters.leverage_weight * sigma * sigma * leverage / static_cast<double>(counted);
+      report.bandwidth_risks.push_back({factor, risk, squared / static_cast<double>(counted), leverage / static_cast<double>(counted)});
+      if (risk < best) {
+        best = risk;
+        report.bandwidth = factor * s;
+      }
+    }
+    if (!(report.bandwidth > 0.0))
+      throw Error("cloud denoising: no point has enough neighbours for a patch at any bandwidth");
+  }
+  report.seconds_noise = secondsSince(start);
+
+  // 3. Every kept point onto its own patch.
+  start = Clock::now();
+  fit_parameters.bandwidth = report.bandwidth;
+  std::vector<std::size_t> fit_queries(kept_queries.size());
+  for (std::size_t j = 0; j < kept_queries.size(); ++j)
+    fit_queries[j] = queries[kept_queries[j]];
+  std::vector<LocalQuadricFit> fits;
+  fitLocalQuadrics(points, usable, radius, fit_queries, fit_parameters, false, fits);
+  const double residual_limit = parameters.residual_outlier_factor * std::max(sigma, 0.05 * s);
+  double displacement = 0.0;
+  for (std::size_t j = 0; j < kept_queries.size(); ++j) {
+    const std::size_t q = kept_queries[j];
+    const LocalQuadricFit& fit = fits[j];
+    if (!fit.valid) {
+      ++report.unfit_removed;
+      continue;
+    }
+    if (parameters.residual_outlier_factor > 0.0 && std::abs(fit.loo_residual) > residual_limit) {
+      ++report.residual_removed;
+      continue;
+    }
+    kept[q] = 1;
+    out_positions[q] = fit.position;
+    out_normals[q] = fit.normal;
+    displacement += (fit.position - points[queries[q]]).norm();
+    ++report.output_points;
+  }
+  report.mean_displacement = report.output_points ? displacement / static_cast<double>(report.output_points) : 0.0;
+  report.seconds_fit = secondsSince(start);
+
+  // 4. Normal orientation.
+  start = Clock::now();
+  report.normals_computed = want_normals;
+  if (want_normals) {
+    bool any_input_normal = false;
+    for (std::size_t q = 0; q < nq && !any_input_normal; ++q)
+      any_input_normal = kept[q] && !normals.empty() && !normals[queries[q]].isZero();
+    if (any_input_normal || viewpoint) {
+      report.normal_orientation = any_input_normal ? "input normals" : "viewpoint";
+      for (std::size_t q = 0; q < nq; ++q) {
+        if (!kept[q])
+          continue;
+        const Eigen::Vector3d reference =
+            any_input_normal ? normals[queries[q]] : Eigen::Vector3d(*viewpoint - out_positions[q]);
+        if (out_normals[q].dot(reference) < 0.0) {
+          out_normals[q] = -out_normals[q];
+          ++report.normals_flipped;
+        }
+      }
+    } else {
+      report.normal_orientation = "propagation";
+      auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+      std::vector<std::size_t> owner;
+      for (std::size_t q = 0; q < nq; ++q)
+        if (kept[q]) {
+          cloud->push_back(pcl::PointXYZ(static_cast<float>(out_positions[q].x()), static_cast<float>(out_positions[q].y()),
+                                         static_cast<float>(out_positions[q].z())));
+          owner.push_back(q);
+        }
+      if (!owner.empty()) {
+        pcl::search::KdTree<pcl::PointXYZ> tree(true);
+        tree.setInputCloud(cloud);
+        constexpr int kGraph = 8;
+        std::vector<std::vector<int>> graph(owner.size());
+#pragma omp parallel num_threads(threads)
+        {
+          pcl::Indices found;
+          std::vector<float> squared;
+#pragma omp for schedule(dynamic, 1024)
+          for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(owner.size()); ++i) {
+            tree.nearestKSearch((*cloud)[static_cast<std::size_t>(i)], kGraph + 1, found, squared);
+            for (const auto j : found)
+              if (j != static_cast<int>(i) && graph[static_cast<std::size_t>(i)].size() < kGraph)
+                graph[static_cast<std::size_t>(i)].push_back(j);
+          }
+        }
+        std::vector<Eigen::Vector3d> oriented(owner.size());
+        for (std::size_t i = 0; i < owner.size(); ++i)
+          oriented[i] = out_normals[owner[i]];
+        report.normals_flipped = propagateNormalOrientation(*cloud, graph, oriented);
+        for (std::size_t i = 0; i < owner.size(); ++i)
+          out_normals[owner[i]] = oriented[i];
+      }
+    }
+  }
+  report.seconds_normals = secondsSince(start);
+}
+
+}  // namespace detail
+
+template class SparsePatchCloudInpainter<pcl::PointXYZ, pcl::PointXYZ>;
+template class SparsePatchCloudInpainter<pcl::PointXYZ, pcl::PointNormal>;
+template class SparsePatchCloudInpainter<pcl::PointNormal, pcl::PointNormal>;
+template class SparsePatchCloudInpainter<pcl::PointNormal, pcl::PointXYZ>;
+template class SparsePatchCloudInpainter<pcl::PointXYZRGB, pcl::PointXYZRGB>;
+template class SparsePatchCloudInpainter<pcl::PointXYZRGB, pcl::PointXYZRGBNormal>;
+template class SparsePatchCloudInpainter<pcl::PointXYZRGBNormal, pcl::PointXYZRGBNormal>;
+template class SparsePatchCloudInpainter<pcl::PointXYZI, pcl::PointXYZI>;
+
+}  // namespace patchdict
+}  // namespace pcl
