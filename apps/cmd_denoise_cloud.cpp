@@ -15,6 +15,7 @@
 #include <cstring>
 #include <iostream>
 #include <limits>
+#include <type_traits>
 
 namespace pcl {
 namespace patchdict {
@@ -22,9 +23,12 @@ namespace cli {
 
 namespace {
 
-const char* const kCloudUsage =
+const char* const kDenoiseUsage =
     "pcl_patchdict denoise CLOUD.pcd|CLOUD.ply -o OUT.pcd|OUT.ply [--noise S] [--bandwidth H] [--no-outlier-filter] "
     "[--outlier-neighbours K] [--outlier-std M] [--residual-outliers F] [--json]";
+const char* const kFillUsage =
+    "pcl_patchdict fill-holes CLOUD.pcd|CLOUD.ply -o OUT.pcd|OUT.ply [--max-hole-diameter D] [--denoise] [--noise S] "
+    "[--bandwidth H] [--no-outlier-filter] [--outlier-neighbours K] [--outlier-std M] [--residual-outliers F] [--json]";
 
 // Offset and type of a named field of one value (float32 / float64), or nullptr.
 const pcl::PCLPointField* findField(const pcl::PCLPointCloud2& blob, const char* name)
@@ -49,17 +53,25 @@ void writeValue(pcl::PCLPointCloud2& blob, std::size_t point, const pcl::PCLPoin
 
 }  // namespace
 
-int runCloudDenoise(const std::vector<std::string>& raw)
+// denoise (fill = false) or fill-holes (fill = true) on a cloud.
+int runCloudRepair(const std::vector<std::string>& raw, bool fill)
 {
+  const char* const kCloudUsage = fill ? kFillUsage : kDenoiseUsage;
   auto values = commonValueOptions();
   values.insert({"output", "noise", "bandwidth", "outlier-neighbours", "outlier-std", "residual-outliers"});
   auto flags = commonFlagOptions();
   flags.insert("no-outlier-filter");
+  if (fill) {
+    values.insert({"max-hole-diameter", "rim-width"});
+    flags.insert("denoise");
+  }
   const Arguments args(raw, values, flags);
   args.expectPositionals(1, 1, kCloudUsage);
   if (!args.has("output"))
     throw UsageError("usage: " + std::string(kCloudUsage));
   applyCommonOptions(args);
+  if (!fill && args.has("max-hole-diameter"))
+    throw UsageError("--max-hole-diameter belongs to fill-holes");
   const bool quiet = args.has("quiet") || args.has("json");
   const std::string in_path = args.positionals()[0];
   const std::string out_path = args.get("output");
@@ -74,6 +86,7 @@ int runCloudDenoise(const std::vector<std::string>& raw)
   parameters.residual_outlier_factor = args.getDouble("residual-outliers", 4.0, 0.0, 1e6);
   const double noise = args.getDouble("noise", 0.0, 0.0, 1.0);
   const double bandwidth = args.getDouble("bandwidth", 0.0, 0.0, 1.0);
+  const double max_hole_diameter = args.getDouble("max-hole-diameter", 0.15, 1e-9, 1e9);
 
   StageTimer timer(quiet);
   timer.start("load");
@@ -92,23 +105,32 @@ int runCloudDenoise(const std::vector<std::string>& raw)
   // Normals are computed (and oriented) only when the output keeps them: the input had them.
   pcl::PointCloud<pcl::PointNormal> denoised;
   CloudDenoisingReport report;
-  pcl::Indices kept;
-  if (input.has_normals) {
-    SparsePatchCloudInpainter<pcl::PointNormal, pcl::PointNormal> inpainter;
+  pcl::Indices records;  // the input record of every output point (kept, then added)
+  using Inpainter = SparsePatchCloudInpainter<pcl::PointNormal, pcl::PointNormal>;
+  const Inpainter::Mode mode = !fill ? Inpainter::Mode::Denoise
+                               : args.has("denoise") ? Inpainter::Mode::DenoiseAndComplete
+                                                     : Inpainter::Mode::Complete;
+  const auto run = [&](auto& inpainter, auto& out) {
     inpainter.setInputCloud(cloud);
     inpainter.setParameters(parameters);
-    inpainter.process(denoised);
+    inpainter.setMode(static_cast<typename std::decay_t<decltype(inpainter)>::Mode>(static_cast<int>(mode)));
+    CloudCompletionParameters completion;
+    completion.max_hole_diameter = max_hole_diameter * scale;
+    completion.rim_width = args.getDouble("rim-width", completion.rim_width, 0.05, 10.0);
+    inpainter.setCompletionParameters(completion);
+    inpainter.process(out);
     report = inpainter.getReport();
-    kept = inpainter.getKeptIndices();
+    records = inpainter.getKeptIndices();
+    records.insert(records.end(), inpainter.getAddedSources().begin(), inpainter.getAddedSources().end());
+  };
+  if (input.has_normals) {
+    Inpainter inpainter;
+    run(inpainter, denoised);
   } else {
     SparsePatchCloudInpainter<pcl::PointNormal, pcl::PointXYZ> inpainter;
-    inpainter.setInputCloud(cloud);
-    inpainter.setParameters(parameters);
     pcl::PointCloud<pcl::PointXYZ> positions;
-    inpainter.process(positions);
+    run(inpainter, positions);
     pcl::copyPointCloud(positions, denoised);
-    report = inpainter.getReport();
-    kept = inpainter.getKeptIndices();
   }
   const std::size_t removed = report.outlier_filter_removed + report.residual_removed + report.unfit_removed;
   char line[240];
@@ -119,6 +141,15 @@ int runCloudDenoise(const std::vector<std::string>& raw)
                 report.noise_sigma / report.mean_spacing, report.bandwidth / report.mean_spacing, removed,
                 report.outlier_filter_removed, report.residual_removed, report.unfit_removed);
   note(quiet, line);
+  if (fill) {
+    const CloudCompletionReport& c = report.completion;
+    std::snprintf(line, sizeof line,
+                  "  Poisson depth %d: %zu gaps, %zu holes filled, %zu wider than %.3g left open, %zu without a rim; "
+                  "%zu points added (lattice %.3g)",
+                  c.poisson_depth, c.gaps, c.holes_filled, c.holes_too_large, max_hole_diameter, c.holes_without_rim,
+                  c.points_added, c.lattice_spacing / scale);
+    note(quiet, line);
+  }
 
   timer.start("write");
   if (out_format == MeshFormat::PCD && input.from_pcd) {
@@ -151,12 +182,12 @@ int runCloudDenoise(const std::vector<std::string>& raw)
       out.point_step = input.blob.point_step;
       out.is_bigendian = input.blob.is_bigendian;
       out.height = 1;
-      out.width = static_cast<std::uint32_t>(kept.size());
+      out.width = static_cast<std::uint32_t>(records.size());
       out.row_step = out.point_step * out.width;
       out.data.resize(static_cast<std::size_t>(out.row_step));
-      for (std::size_t i = 0; i < kept.size(); ++i) {
+      for (std::size_t i = 0; i < records.size(); ++i) {
         std::memcpy(out.data.data() + i * out.point_step,
-                    input.blob.data.data() + static_cast<std::size_t>(kept[i]) * input.blob.point_step, out.point_step);
+                    input.blob.data.data() + static_cast<std::size_t>(records[i]) * input.blob.point_step, out.point_step);
         const pcl::PointNormal& p = denoised[i];
         writeValue(out, i, *fx, p.x);
         writeValue(out, i, *fy, p.y);
@@ -195,10 +226,20 @@ int runCloudDenoise(const std::vector<std::string>& raw)
 
   if (args.has("json")) {
     JsonObject json;
-    json.add("command", "denoise").add("kind", "cloud").add("input", in_path).add("output", out_path);
+    json.add("command", fill ? "fill-holes" : "denoise").add("kind", "cloud").add("input", in_path).add("output", out_path);
     json.add("points_in", report.input_points).add("nonfinite_points", report.nonfinite_points);
-    json.add("points_out", report.output_points).add("moved", report.output_points);
-    json.add("added", std::size_t{0});
+    json.add("points_out", report.output_points + report.points_added)
+        .add("moved", mode == Inpainter::Mode::Complete ? std::size_t{0} : report.output_points);
+    json.add("added", report.points_added);
+    if (fill) {
+      const CloudCompletionReport& c = report.completion;
+      JsonObject holes;
+      holes.add("gaps", c.gaps).add("filled", c.holes_filled).add("too_large", c.holes_too_large)
+          .add("without_rim", c.holes_without_rim).add("max_hole_diameter", max_hole_diameter)
+          .add("poisson_depth", c.poisson_depth).add("poisson_faces", c.poisson_faces)
+          .add("lattice_spacing", c.lattice_spacing / scale).add("density", c.density * scale * scale);
+      json.add("holes", holes);
+    }
     json.add("removed_as_outliers", removed);
     json.add("removed_by_prefilter", report.outlier_filter_removed)
         .add("removed_off_patch", report.residual_removed)
@@ -222,14 +263,25 @@ int runCloudDenoise(const std::vector<std::string>& raw)
     JsonObject stages;
     stages.add("search", report.seconds_search).add("outliers", report.seconds_outliers)
         .add("noise", report.seconds_noise).add("fit", report.seconds_fit).add("normals", report.seconds_normals);
+    if (fill)
+      stages.add("poisson", report.completion.seconds_poisson).add("gaps", report.completion.seconds_gaps)
+          .add("fill", report.completion.seconds_fill);
     json.add("denoise_stages", stages).add("seconds", timer.json());
     std::cout << json.str() << '\n';
   } else if (!quiet) {
-    std::printf("denoised %zu of %zu points (%zu outliers removed) -> %s\n", report.output_points,
-                report.input_points, removed, out_path.c_str());
+    if (fill)
+      std::printf("filled %zu holes with %zu points; %zu points kept of %zu (%zu outliers removed) -> %s\n",
+                  report.completion.holes_filled, report.points_added, report.output_points, report.input_points,
+                  removed, out_path.c_str());
+    else
+      std::printf("denoised %zu of %zu points (%zu outliers removed) -> %s\n", report.output_points,
+                  report.input_points, removed, out_path.c_str());
   }
   return 0;
 }
+
+int runCloudDenoise(const std::vector<std::string>& raw) { return runCloudRepair(raw, false); }
+int runCloudFillHoles(const std::vector<std::string>& raw) { return runCloudRepair(raw, true); }
 
 }  // namespace cli
 }  // namespace patchdict

@@ -2,6 +2,7 @@
 // triangulate–refine–fair, then the new vertices corrected by patches (SparsePatchInpainter, Holes).
 // The output keeps the input vertices first, bit-identical and in order, then the new ones.
 #include "cli.h"
+#include "cloud_input.h"
 #include "repair_options.h"
 
 #include <pcl_patchdict/hole_filling.h>
@@ -26,8 +27,21 @@ const char* kUsage =
 
 }  // namespace
 
+int runCloudFillHoles(const std::vector<std::string>& raw);
+
 int runFillHoles(const std::vector<std::string>& raw)
 {
+  {  // A point cloud (.pcd, face-less .ply) takes the cloud path, with its own options.
+    auto values = commonValueOptions();
+    values.insert(repairValueOptions().begin(), repairValueOptions().end());
+    values.insert({"output", "max-hole-edges", "max-hole-diameter", "hole-factor", "surface", "noise", "bandwidth",
+                   "outlier-neighbours", "outlier-std", "residual-outliers", "rim-width"});
+    auto flags = commonFlagOptions();
+    flags.insert({"no-patches", "absolute", "denoise", "no-outlier-filter"});
+    const Arguments probe(raw, values, flags);
+    if (probe.positionals().size() == 1 && isCloudFile(probe.positionals()[0]))
+      return runCloudFillHoles(raw);
+  }
   const RepairCommandLine line = parseRepairCommand(
       raw, kUsage, {"max-hole-edges", "max-hole-diameter", "hole-factor", "surface"}, {"absolute"}, false);
   const Arguments& args = line.args;

@@ -236,7 +236,26 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
     fit_queries[j] = queries[kept_queries[j]];
   std::vector<LocalQuadricFit> fits;
   fitLocalQuadrics(points, usable, radius, fit_queries, fit_parameters, false, fits);
-  const double residual_limit = parameters.residual_outlier_factor * std::max(sigma, 0.05 * s);
+  // Points with too few neighbours at h (sparse spots, rims) try twice and four times h.
+  for (const double widen : {2.0, 4.0}) {
+    std::vector<std::size_t> retry, retry_queries;
+    for (std::size_t j = 0; j < fits.size(); ++j)
+      if (!fits[j].valid) {
+        retry.push_back(j);
+        retry_queries.push_back(fit_queries[j]);
+      }
+    if (retry.empty())
+      break;
+    LocalQuadricParameters wider = fit_parameters;
+    wider.bandwidth = widen * report.bandwidth;
+    std::vector<LocalQuadricFit> refits;
+    fitLocalQuadrics(points, usable, radius, retry_queries, wider, false, refits);
+    for (std::size_t k = 0; k < retry.size(); ++k)
+      fits[retry[k]] = refits[k];
+  }
+  // Residuals of clean samples of a curved or faceted surface are bias, heavy-tailed, not noise:
+  // a point is only an outlier beyond one spacing, whatever σ.
+  const double residual_limit = std::max(parameters.residual_outlier_factor * sigma, s);
   double displacement = 0.0;
   for (std::size_t j = 0; j < kept_queries.size(); ++j) {
     const std::size_t q = kept_queries[j];

@@ -111,4 +111,30 @@ TEST(CliCloud, TooFewPointsAndMeshOutputsAreRefusedWithOneLine)
   EXPECT_NE(result.err.find("cloud file"), std::string::npos) << result.err;
 }
 
+TEST(CliCloud, FillHolesAddsPointsInAHoleAndCarriesFieldsFromTheirNeighbours)
+{
+  TempDir dir;
+  pcl::PointCloud<pcl::PointXYZI> cloud;
+  for (const auto& p : sphere(12000, 0))
+    if (p.z < 0.95f)  // a cap of radius ≈ 0.31 removed
+      cloud.push_back(p);
+  ASSERT_EQ(pcl::io::savePCDFileBinary(dir.file("holed.pcd"), cloud), 0);
+  const auto result = runTool("fill-holes " + q(dir.file("holed.pcd")) + " -o " + q(dir.file("out.pcd")) +
+                              " --max-hole-diameter 0.5 --json");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(jsonNumber(result.out, "filled"), 1.0);
+  const double added = jsonNumber(result.out, "added");
+  // The cap's area (2π · 0.05) at the input's density (≈ 11,700 points on 4π − 0.31).
+  EXPECT_NEAR(added / (cloud.size() * 0.1 * M_PI / (4.0 * M_PI - 0.1 * M_PI)), 1.0, 0.3);
+  pcl::PointCloud<pcl::PointXYZI> out;
+  ASSERT_EQ(pcl::io::loadPCDFile(dir.file("out.pcd"), out), 0);
+  ASSERT_EQ(static_cast<double>(out.size()), jsonNumber(result.out, "points_out"));
+  for (std::size_t i = out.size() - static_cast<std::size_t>(added); i < out.size(); ++i) {
+    EXPECT_GT(out[i].z, 0.92f);  // over the cap (z > 0.95) or its rim band
+    EXPECT_NEAR(out[i].getVector3fMap().norm(), 1.0f, 0.02f);
+    EXPECT_EQ(out[i].intensity, std::round(out[i].intensity));  // copied from an input point
+    EXPECT_LT(out[i].intensity, 12000.0f);
+  }
+}
+
 }  // namespace

@@ -2,6 +2,7 @@
 // pcl::MovingLeastSquares): robot scans and SfM clouds denoised with local height-field patches.
 #pragma once
 
+#include <pcl_patchdict/cloud_hole_completion.h>
 #include <pcl_patchdict/local_quadric_projection.h>
 
 #include <pcl/point_cloud.h>
@@ -30,9 +31,10 @@ struct CloudDenoisingParameters {
   int outlier_neighbours = 50;
   double outlier_std = 1.0;
   /// σ of the noise along the normals; 0 = estimated (1.4826 × median |leave-one-out residual| of
-  /// local quadrics at bandwidth 3 s, over up to noise_sample evenly spaced points).
+  /// local quadrics at bandwidth 3 s, over up to noise_sample evenly spaced points; the bandwidth's
+  /// risk is estimated over the same sample).
   double noise_sigma = 0.0;
-  int noise_sample = 20000;
+  int noise_sample = 8000;
   /// h of the local patches; 0 = chosen among bandwidth_candidates × s (s the mean
   /// nearest-neighbour spacing) by Stein's unbiased risk estimate over the noise sample.
   double bandwidth = 0.0;
@@ -43,9 +45,10 @@ struct CloudDenoisingParameters {
   double leverage_weight = 2.0;
   /// A point farther than this × σ from its patch fitted without it (leave-one-out, the statistic σ
   /// is estimated with) is an outlier the pre-filter missed and is removed (0 keeps every fitted
-  /// point). Gaussian inliers beyond 4σ: 0.006 %.
+  /// point), and never closer than one spacing s (clean samples of a curved or faceted surface
+  /// have heavy-tailed residuals). Gaussian inliers beyond 4σ: 0.006 %.
   double residual_outlier_factor = 4.0;
-  int min_neighbours = 8;  ///< fewer usable neighbours within the support: the point is removed
+  int min_neighbours = 8;  ///< fewer usable neighbours within the support: tried at 2h, 4h, then removed
   int max_neighbours = 192;
   int num_threads = 0;
 };
@@ -73,6 +76,8 @@ struct CloudDenoisingReport {
   std::size_t normals_flipped = 0;
   double seconds_search = 0.0, seconds_outliers = 0.0, seconds_noise = 0.0, seconds_fit = 0.0,
          seconds_normals = 0.0;
+  std::size_t points_added = 0;        ///< completion: new points (after the kept ones)
+  CloudCompletionReport completion;    ///< what the completion did (Complete modes)
 };
 
 namespace detail {
@@ -99,7 +104,10 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
   *     normal onto it, and points left farther than 4σ from their own patch are removed;
   *  4. output normals (when PointOutT has them) are the patches' normals, oriented like the input's
   *     normals, towards the viewpoint (setViewpoint, or the sensor origin of an organised cloud), or
-  *     else consistently by Hoppe et al.'s propagation (outward for a closed shape).
+  *     else consistently by Hoppe et al.'s propagation (outward for a closed shape);
+  *  5. Complete modes: completeCloudHoles adds points in the holes (the gaps of the Poisson surface
+  *     no wider than the maximum hole diameter) at the input's density; their other fields are
+  *     copied from the nearest input point. Poisson's caps over wider openings never become points.
   *
   * Other fields (colour, intensity, labels…) are carried from the input point to the moved one.
   * An organised input (height > 1) keeps its width and height: removed and non-finite points become
@@ -118,7 +126,19 @@ public:
   using PointCloudOut = pcl::PointCloud<PointOutT>;
   using KdTreePtr = typename pcl::search::Search<PointInT>::Ptr;
 
+  /** Denoise: every kept point moved onto its patch. Complete: the points stay where they are
+    * (outliers still go) and new points fill the holes. DenoiseAndComplete: both, the holes filled
+    * from the denoised points. */
+  enum class Mode { Denoise, Complete, DenoiseAndComplete };
+
   SparsePatchCloudInpainter() = default;
+
+  void setMode(Mode mode) { mode_ = mode; }
+  Mode getMode() const { return mode_; }
+  void setCompletionParameters(const CloudCompletionParameters& parameters) { completion_ = parameters; }
+  const CloudCompletionParameters& getCompletionParameters() const { return completion_; }
+  /** Holes wider than this stay open (absolute units; 0: 0.15 × the cloud's largest bbox side). */
+  void setMaxHoleDiameter(double diameter) { completion_.max_hole_diameter = diameter; }
 
   /** Search over the input cloud (default: a pcl::search::KdTree made for it). */
   void setSearchMethod(const KdTreePtr& tree) { tree_ = tree; }
@@ -149,9 +169,12 @@ public:
 
   /** What the last process() did. */
   const CloudDenoisingReport& getReport() const { return report_; }
-  /** Input index of every finite point of the last output, in output order (to carry data of
-    * your own along; an organised output keeps the input's layout, and these are its kept cells). */
+  /** Input index of every kept input point of the last output, in output order (to carry data of
+    * your own along; an organised output keeps the input's layout, and these are its kept cells).
+    * Added points follow the kept ones in an unorganised output; getAddedSources() names, for each,
+    * the input point its other fields (colour…) were copied from. */
   const pcl::Indices& getKeptIndices() const { return kept_indices_; }
+  const pcl::Indices& getAddedSources() const { return added_sources_; }
 
 protected:
   void performProcessing(PointCloudOut& output) override;
@@ -161,12 +184,14 @@ private:
   using pcl::CloudSurfaceProcessing<PointInT, PointOutT>::indices_;
 
   KdTreePtr tree_;
+  Mode mode_ = Mode::Denoise;
   CloudDenoisingParameters parameters_;
+  CloudCompletionParameters completion_;
   Eigen::Vector3d viewpoint_ = Eigen::Vector3d::Zero();
   bool has_viewpoint_ = false;
   bool keep_organized_ = true;
   CloudDenoisingReport report_;
-  pcl::Indices kept_indices_;
+  pcl::Indices kept_indices_, added_sources_;
 };
 
 }  // namespace patchdict

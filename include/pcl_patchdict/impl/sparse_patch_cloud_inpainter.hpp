@@ -81,14 +81,42 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
   }
   std::vector<char> kept;
   std::vector<Eigen::Vector3d> moved, moved_normals;
-  detail::denoiseCloud(points, normals, queries, knn, radius, parameters_, pcl::traits::has_normal_v<PointOutT>,
-                       use_viewpoint ? &viewpoint : nullptr, kept, moved, moved_normals, report_);
+  const bool completing = mode_ != Mode::Denoise;
+  detail::denoiseCloud(points, normals, queries, knn, radius, parameters_,
+                       pcl::traits::has_normal_v<PointOutT> || completing, use_viewpoint ? &viewpoint : nullptr, kept,
+                       moved, moved_normals, report_);
+  std::vector<Eigen::Vector3d> added, added_normals;
+  std::vector<std::size_t> added_source;
+  added_sources_.clear();
+  if (completing) {
+    std::vector<Eigen::Vector3d> surface, surface_normals;
+    std::vector<std::size_t> owner;
+    for (std::size_t q = 0; q < queries.size(); ++q)
+      if (kept[q]) {
+        surface.push_back(moved[q]);
+        surface_normals.push_back(moved_normals[q]);
+        owner.push_back(queries[q]);
+      }
+    CloudCompletionParameters completion = completion_;
+    completion.num_threads = parameters_.num_threads;
+    completeCloudHoles(surface, surface_normals, report_.mean_spacing, completion, added, added_normals, added_source,
+                       report_.completion);
+    report_.points_added = added.size();
+    for (std::size_t& source : added_source)
+      source = owner[source];
+  }
+  // Complete: the points stay where they were (only the outliers went); the holes were filled from
+  // the patches' surface all the same, so that noise in the rim does not go into the fill.
+  if (mode_ == Mode::Complete)
+    for (std::size_t q = 0; q < queries.size(); ++q)
+      if (kept[q])
+        moved[q] = points[queries[q]];
 
   kept_indices_.clear();
   for (std::size_t q = 0; q < queries.size(); ++q)
     if (kept[q])
       kept_indices_.push_back(static_cast<pcl::index_t>(queries[q]));
-  const bool keep_grid = organised && keep_organized_ && queries.size() == input.size();
+  const bool keep_grid = organised && keep_organized_ && queries.size() == input.size() && !completing;
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const auto fill = [&](std::size_t q, PointOutT& out) {
     pcl::copyPoint(input[queries[q]], out);
@@ -118,13 +146,27 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
       fill(q, output[q]);
     output.is_dense = report_.output_points == input.size();
   } else {
-    output.reserve(report_.output_points);
+    output.reserve(report_.output_points + added.size());
     for (std::size_t q = 0; q < queries.size(); ++q)
       if (kept[q]) {
         PointOutT p;
         fill(q, p);
         output.push_back(p);
       }
+    for (std::size_t k = 0; k < added.size(); ++k) {
+      PointOutT p;
+      pcl::copyPoint(input[added_source[k]], p);
+      p.x = static_cast<float>(added[k].x());
+      p.y = static_cast<float>(added[k].y());
+      p.z = static_cast<float>(added[k].z());
+      if constexpr (pcl::traits::has_normal_v<PointOutT>) {
+        p.normal_x = static_cast<float>(added_normals[k].x());
+        p.normal_y = static_cast<float>(added_normals[k].y());
+        p.normal_z = static_cast<float>(added_normals[k].z());
+      }
+      output.push_back(p);
+      added_sources_.push_back(static_cast<pcl::index_t>(added_source[k]));
+    }
     output.width = static_cast<std::uint32_t>(output.size());
     output.height = 1;
     output.is_dense = true;
