@@ -144,9 +144,9 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
   if (fill) {
     const CloudCompletionReport& c = report.completion;
     std::snprintf(line, sizeof line,
-                  "  Poisson depth %d: %zu gaps, %zu holes filled, %zu wider than %.3g left open, %zu without a rim; "
-                  "%zu points added (lattice %.3g)",
-                  c.poisson_depth, c.gaps, c.holes_filled, c.holes_too_large, max_hole_diameter, c.holes_without_rim,
+                  "  Poisson depth %d: %zu gaps, %zu holes filled by splines, %zu from Poisson, %zu wider than %.3g left "
+                  "open; %zu points added (lattice %.3g)",
+                  c.poisson_depth, c.gaps, c.holes_filled, c.holes_from_poisson, c.holes_too_large, max_hole_diameter,
                   c.points_added, c.lattice_spacing / scale);
     note(quiet, line);
   }
@@ -235,7 +235,7 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
       const CloudCompletionReport& c = report.completion;
       JsonObject holes;
       holes.add("gaps", c.gaps).add("filled", c.holes_filled).add("too_large", c.holes_too_large)
-          .add("without_rim", c.holes_without_rim).add("max_hole_diameter", max_hole_diameter)
+          .add("from_poisson", c.holes_from_poisson).add("max_hole_diameter", max_hole_diameter)
           .add("poisson_depth", c.poisson_depth).add("poisson_faces", c.poisson_faces)
           .add("lattice_spacing", c.lattice_spacing / scale).add("density", c.density * scale * scale);
       json.add("holes", holes);
@@ -271,7 +271,7 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
   } else if (!quiet) {
     if (fill)
       std::printf("filled %zu holes with %zu points; %zu points kept of %zu (%zu outliers removed) -> %s\n",
-                  report.completion.holes_filled, report.points_added, report.output_points, report.input_points,
+                  report.completion.holes_filled + report.completion.holes_from_poisson, report.points_added, report.output_points, report.input_points,
                   removed, out_path.c_str());
     else
       std::printf("denoised %zu of %zu points (%zu outliers removed) -> %s\n", report.output_points,

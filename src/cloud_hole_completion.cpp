@@ -3,6 +3,7 @@
 #include <pcl_patchdict/coarse_mesh_estimation.h>
 #include <pcl_patchdict/error.h>
 #include <pcl_patchdict/mesh_topology.h>
+#include <pcl_patchdict/surface_sampling.h>
 #include <pcl_patchdict/thin_plate_spline.h>
 
 #include <pcl/search/kdtree.h>
@@ -36,7 +37,7 @@ struct Gap {
 struct HoleFill {
   std::vector<Eigen::Vector3d> points, normals;
   std::vector<std::size_t> sources;
-  enum class Outcome { Filled, TooLarge, NoRim } outcome = Outcome::NoRim;
+  enum class Outcome { Filled, FilledFromPoisson, TooLarge } outcome = Outcome::FilledFromPoisson;
 };
 
 }  // namespace
@@ -202,10 +203,38 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
       fill.outcome = HoleFill::Outcome::TooLarge;
       continue;
     }
-    // A gap that is not roughly flat (a cap over a tube's end, a closed bubble) has no plane to be a
-    // height field over.
-    if (normal_sum.norm() < 0.5 * area)
+    // Where no spline fits — a gap that is not roughly flat (a hole through folds, a cap over a
+    // tube's end), too thin a rim — the Poisson surface itself is sampled at the input's density.
+    const auto fill_from_poisson = [&]() {
+      TriangleMesh part;
+      for (const std::int32_t f : gap.faces) {
+        const Face& face = surface.faces[static_cast<std::size_t>(f)];
+        const auto base = static_cast<std::int32_t>(part.vertices.size());
+        for (int k = 0; k < 3; ++k)
+          part.vertices.push_back(surface.vertices[static_cast<std::size_t>(face[k])]);
+        part.faces.push_back(Face{base, base + 1, base + 2});
+      }
+      const auto count = static_cast<std::size_t>(std::llround(report.density * area));
+      if (count == 0)
+        return;
+      const SurfaceSamples samples = sampleSurfaceUniform(part, count, static_cast<std::uint64_t>(g) + 1);
+      pcl::Indices nearest(1);
+      std::vector<float> nearest_squared(1);
+      for (std::size_t k = 0; k < samples.points.size(); ++k) {
+        const Face& face = part.faces[static_cast<std::size_t>(samples.face_ids[k])];
+        const Eigen::Vector3d normal = (part.vertices[static_cast<std::size_t>(face[1])] - part.vertices[static_cast<std::size_t>(face[0])])
+                                           .cross(part.vertices[static_cast<std::size_t>(face[2])] - part.vertices[static_cast<std::size_t>(face[0])]);
+        if (tree.nearestKSearch(toPoint(samples.points[k]), 1, nearest, nearest_squared) != 1 || !(normal.norm() > 0.0))
+          continue;
+        fill.points.push_back(samples.points[k]);
+        fill.normals.push_back(normal.normalized());
+        fill.sources.push_back(static_cast<std::size_t>(nearest[0]));
+      }
+    };
+    if (normal_sum.norm() < parameters.flatness * area) {
+      fill_from_poisson();
       continue;
+    }
     const Eigen::Vector3d n = normal_sum.normalized();
     const Eigen::Vector3d e1 = n.unitOrthogonal(), e2 = n.cross(e1);
     const double rim_radius = (1.0 + parameters.rim_width) * radius + 2.0 * spacing;
@@ -213,14 +242,28 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
     std::vector<float> squared;
     tree.radiusSearch(toPoint(centre), rim_radius, index, squared);
     std::sort(index.begin(), index.end());
+    // The rim: points near the gap's own faces in 3D (not merely near its centre: another sheet of
+    // a folded surface can pass close by), facing the same way.
+    auto gap_faces_3d = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+    for (const std::int32_t f : gap.faces)
+      gap_faces_3d->push_back(toPoint(centroids[static_cast<std::size_t>(f)]));
+    pcl::search::KdTree<pcl::PointXYZ> gap_tree_3d(false);
+    gap_tree_3d.setInputCloud(gap_faces_3d);
+    const double rim_reach = far_limit + parameters.rim_width * radius + 2.0 * spacing;
     std::vector<std::size_t> rim;
+    pcl::Indices nearest_face(1);
+    std::vector<float> nearest_squared(1);
     for (const auto i : index) {
       const auto j = static_cast<std::size_t>(i);
-      if (normals[j].dot(n) > 0.3 && std::abs((points[j] - centre).dot(n)) < rim_radius)
+      if (normals[j].dot(n) > 0.3 && std::abs((points[j] - centre).dot(n)) < rim_radius &&
+          gap_tree_3d.nearestKSearch(toPoint(points[j]), 1, nearest_face, nearest_squared) == 1 &&
+          std::sqrt(double(nearest_squared[0])) < rim_reach)
         rim.push_back(j);
     }
-    if (rim.size() < 10)
+    if (rim.size() < 10) {
+      fill_from_poisson();
       continue;
+    }
     const std::size_t stride = (rim.size() + static_cast<std::size_t>(parameters.max_rim_points) - 1) /
                                static_cast<std::size_t>(parameters.max_rim_points);
     std::vector<Eigen::Vector2d> sites;
@@ -234,6 +277,7 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
     try {
       spline.fit(sites, heights, parameters.smoothing);
     } catch (const Error&) {
+      fill_from_poisson();
       continue;
     }
     // Gap faces near a lattice point in the plane: the point is over the hole (in the plane, so
@@ -245,7 +289,7 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
     }
     pcl::search::KdTree<pcl::PointXYZ> gap_tree(false);
     gap_tree.setInputCloud(gap_cloud);
-    const double reach = radius + far_limit + a;
+    const double reach = radius + far_limit + parameters.rim_reach * a;
     const double row = a * std::sqrt(3.0) / 2.0;
     for (int r = static_cast<int>(-std::ceil(reach / row)); r * row <= reach; ++r)
       for (int c = static_cast<int>(-std::ceil(reach / a)) - 1; c * a <= reach; ++c) {
@@ -258,7 +302,7 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
         const Eigen::Vector3d p = centre + uv.x() * e1 + uv.y() * e2 + h * n;
         if (gap_tree.nearestKSearch(pcl::PointXYZ(static_cast<float>(uv.x()), static_cast<float>(uv.y()), 0.0f), 1,
                                     index, squared) != 1 ||
-            std::sqrt(double(squared[0])) > far_limit + a)
+            std::sqrt(double(squared[0])) > far_limit + parameters.rim_reach * a)
           continue;
         if (tree.nearestKSearch(toPoint(p), 1, index, squared) != 1 ||
             std::sqrt(double(squared[0])) < parameters.clearance * a)
@@ -274,7 +318,7 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
     switch (fill.outcome) {
     case HoleFill::Outcome::Filled: ++report.holes_filled; break;
     case HoleFill::Outcome::TooLarge: ++report.holes_too_large; break;
-    case HoleFill::Outcome::NoRim: ++report.holes_without_rim; break;
+    case HoleFill::Outcome::FilledFromPoisson: ++report.holes_from_poisson; break;
     }
     added.insert(added.end(), fill.points.begin(), fill.points.end());
     added_normals.insert(added_normals.end(), fill.normals.begin(), fill.normals.end());
