@@ -161,20 +161,21 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
     const pcl::PCLPointField* fnx = input.has_normals ? findField(input.blob, "normal_x") : nullptr;
     const pcl::PCLPointField* fny = input.has_normals ? findField(input.blob, "normal_y") : nullptr;
     const pcl::PCLPointField* fnz = input.has_normals ? findField(input.blob, "normal_z") : nullptr;
+    const auto writePoint = [&](pcl::PCLPointCloud2& blob, std::size_t i, const pcl::PointNormal& p) {
+      writeValue(blob, i, *fx, p.x);
+      writeValue(blob, i, *fy, p.y);
+      writeValue(blob, i, *fz, p.z);
+      if (fnx && fny && fnz) {
+        writeValue(blob, i, *fnx, p.normal_x);
+        writeValue(blob, i, *fny, p.normal_y);
+        writeValue(blob, i, *fnz, p.normal_z);
+      }
+    };
     const bool organised = denoised.height > 1;
     if (organised) {
       out = input.blob;
-      for (std::size_t i = 0; i < denoised.size(); ++i) {
-        const pcl::PointNormal& p = denoised[i];
-        writeValue(out, i, *fx, p.x);
-        writeValue(out, i, *fy, p.y);
-        writeValue(out, i, *fz, p.z);
-        if (fnx && fny && fnz) {
-          writeValue(out, i, *fnx, p.normal_x);
-          writeValue(out, i, *fny, p.normal_y);
-          writeValue(out, i, *fnz, p.normal_z);
-        }
-      }
+      for (std::size_t i = 0; i < denoised.size(); ++i)
+        writePoint(out, i, denoised[i]);
       out.is_dense = denoised.is_dense;
     } else {
       out.header = input.blob.header;
@@ -188,15 +189,7 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
       for (std::size_t i = 0; i < records.size(); ++i) {
         std::memcpy(out.data.data() + i * out.point_step,
                     input.blob.data.data() + static_cast<std::size_t>(records[i]) * input.blob.point_step, out.point_step);
-        const pcl::PointNormal& p = denoised[i];
-        writeValue(out, i, *fx, p.x);
-        writeValue(out, i, *fy, p.y);
-        writeValue(out, i, *fz, p.z);
-        if (fnx && fny && fnz) {
-          writeValue(out, i, *fnx, p.normal_x);
-          writeValue(out, i, *fny, p.normal_y);
-          writeValue(out, i, *fnz, p.normal_z);
-        }
+        writePoint(out, i, denoised[i]);
       }
       out.is_dense = true;
     }

@@ -118,39 +118,10 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
         far[static_cast<std::size_t>(f)] = 1;
     }
   }
-  const EdgeFaceAdjacency adjacency = computeEdgeFaceAdjacency(surface);
-  std::vector<int> parent(surface.faces.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  const auto find = [&](int x) {
-    while (parent[static_cast<std::size_t>(x)] != x)
-      x = parent[static_cast<std::size_t>(x)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
-    return x;
-  };
-  for (const MeshEdge& edge : adjacency.edges)
-    for (std::size_t a = 0; a + 1 < edge.faces.size(); ++a) {
-      const int f = edge.faces[a], g = edge.faces[a + 1];
-      if (far[static_cast<std::size_t>(f)] && far[static_cast<std::size_t>(g)]) {
-        const int rf = find(f), rg = find(g);
-        if (rf != rg)
-          parent[static_cast<std::size_t>(std::max(rf, rg))] = std::min(rf, rg);
-      }
-    }
-  std::vector<int> gap_of(surface.faces.size(), -1);
-  std::vector<Gap> all_gaps;
-  for (std::size_t f = 0; f < surface.faces.size(); ++f) {
-    if (!far[f])
-      continue;
-    const int root = find(static_cast<int>(f));
-    if (gap_of[static_cast<std::size_t>(root)] < 0) {
-      gap_of[static_cast<std::size_t>(root)] = static_cast<int>(all_gaps.size());
-      all_gaps.emplace_back();
-    }
-    all_gaps[static_cast<std::size_t>(gap_of[static_cast<std::size_t>(root)])].faces.push_back(static_cast<std::int32_t>(f));
-  }
   std::vector<Gap> gaps;
-  for (auto& gap : all_gaps)
-    if (static_cast<int>(gap.faces.size()) >= parameters.min_gap_faces)
-      gaps.push_back(std::move(gap));
+  for (auto& region : flaggedFaceRegions(surface, far))
+    if (static_cast<int>(region.size()) >= parameters.min_gap_faces)
+      gaps.push_back(Gap{std::move(region)});
   report.gaps = gaps.size();
 
   // Density of the input: neighbours within 4 s of an evenly spaced sample of points.

@@ -463,30 +463,13 @@ void CoarseMeshEstimation::processCloud(TriangleMesh& out, Report* report) const
   // leave holes up to ~4 mean spacings wide, measured), a bubble or a skirt when they form a large
   // connected region: only regions of at least min_trimmed_region_ faces are removed.
   if (min_trimmed_region_ > 1) {
-    const EdgeFaceAdjacency adjacency = computeEdgeFaceAdjacency(mesh);
-    std::vector<int> parent(mesh.faces.size());
-    std::iota(parent.begin(), parent.end(), 0);
-    const auto find = [&](int x) {
-      while (parent[static_cast<std::size_t>(x)] != x)
-        x = parent[static_cast<std::size_t>(x)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
-      return x;
-    };
-    for (const MeshEdge& e : adjacency.edges)
-      for (std::size_t i = 0; i + 1 < e.faces.size(); ++i) {
-        const auto a = static_cast<std::size_t>(e.faces[i]), b = static_cast<std::size_t>(e.faces[i + 1]);
-        if (!keep[a] && !keep[b]) {
-          const int ra = find(static_cast<int>(a)), rb = find(static_cast<int>(b));
-          if (ra != rb)
-            parent[static_cast<std::size_t>(std::max(ra, rb))] = std::min(ra, rb);
-        }
-      }
-    std::vector<int> region_size(mesh.faces.size(), 0);
+    std::vector<char> far(keep.size());
     for (std::size_t f = 0; f < keep.size(); ++f)
-      if (!keep[f])
-        ++region_size[static_cast<std::size_t>(find(static_cast<int>(f)))];
-    for (std::size_t f = 0; f < keep.size(); ++f)
-      if (!keep[f] && region_size[static_cast<std::size_t>(find(static_cast<int>(f)))] < min_trimmed_region_)
-        keep[f] = 1;
+      far[f] = keep[f] ? 0 : 1;
+    for (const auto& region : flaggedFaceRegions(mesh, far))
+      if (static_cast<int>(region.size()) < min_trimmed_region_)
+        for (const std::int32_t f : region)
+          keep[static_cast<std::size_t>(f)] = 1;
   }
   TriangleMesh trimmed;
   trimmed.vertices = std::move(mesh.vertices);

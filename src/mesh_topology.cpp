@@ -1,3 +1,4 @@
+#include <pcl_patchdict/error.h>
 #include <pcl_patchdict/mesh_topology.h>
 
 #include <algorithm>
@@ -213,6 +214,43 @@ int computeConnectedComponents(const TriangleMesh& mesh, std::vector<int>& face_
     for (int k = 0; k < 3; ++k)
       vertex_component[f[k]] = label[sets.find(f[k])];
   return count;
+}
+
+std::vector<std::vector<std::int32_t>> flaggedFaceRegions(const TriangleMesh& mesh, const std::vector<char>& flagged)
+{
+  if (flagged.size() != mesh.faces.size())
+    throw Error("flagged face regions: one flag per face is needed");
+  // Union-find over the edges whose faces are both flagged; the root of a region is its smallest face.
+  std::vector<std::int32_t> parent(mesh.faces.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto find = [&](std::int32_t x) {
+    while (parent[static_cast<std::size_t>(x)] != x)
+      x = parent[static_cast<std::size_t>(x)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
+    return x;
+  };
+  const EdgeFaceAdjacency adjacency = computeEdgeFaceAdjacency(mesh);
+  for (const MeshEdge& edge : adjacency.edges)
+    for (std::size_t i = 0; i + 1 < edge.faces.size(); ++i) {
+      const std::int32_t a = edge.faces[i], b = edge.faces[i + 1];
+      if (flagged[static_cast<std::size_t>(a)] && flagged[static_cast<std::size_t>(b)]) {
+        const std::int32_t ra = find(a), rb = find(b);
+        if (ra != rb)
+          parent[static_cast<std::size_t>(std::max(ra, rb))] = std::min(ra, rb);
+      }
+    }
+  std::vector<std::int32_t> region_of(mesh.faces.size(), -1);
+  std::vector<std::vector<std::int32_t>> regions;
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    if (!flagged[f])
+      continue;
+    const auto root = static_cast<std::size_t>(find(static_cast<std::int32_t>(f)));
+    if (region_of[root] < 0) {
+      region_of[root] = static_cast<std::int32_t>(regions.size());
+      regions.emplace_back();
+    }
+    regions[static_cast<std::size_t>(region_of[root])].push_back(static_cast<std::int32_t>(f));
+  }
+  return regions;
 }
 
 }  // namespace patchdict

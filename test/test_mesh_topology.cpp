@@ -1,3 +1,4 @@
+#include <pcl_patchdict/error.h>
 #include <pcl_patchdict/mesh_topology.h>
 #include <pcl_patchdict/shapes.h>
 
@@ -98,6 +99,44 @@ TEST(MeshTopology, LoopThroughABowtieVertexIsFlagged)
   for (const auto& loop : loops)
     flagged = flagged || loop.through_nonmanifold_vertex;
   EXPECT_TRUE(flagged);
+}
+
+TEST(MeshTopology, FlaggedFaceRegionsJoinThroughEdgesOnly)
+{
+  // Flag the faces whose centroid lies in two separate squares of a grid; a vertex contact is
+  // not a connection (two faces meeting at a corner stay apart).
+  const TriangleMesh grid = makePlaneGrid(10, 10);
+  std::vector<char> flagged(grid.faces.size(), 0);
+  std::size_t in_a = 0, in_b = 0;
+  for (std::size_t f = 0; f < grid.faces.size(); ++f) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k)
+      c += grid.vertices[static_cast<std::size_t>(grid.faces[f][k])] / 3.0;
+    const bool a = c.x() < 0.3 && c.y() < 0.3, b = c.x() > 0.6 && c.y() > 0.6;
+    flagged[f] = (a || b) ? 1 : 0;
+    in_a += a ? 1 : 0;
+    in_b += b ? 1 : 0;
+  }
+  const auto regions = flaggedFaceRegions(grid, flagged);
+  ASSERT_EQ(regions.size(), 2u);
+  EXPECT_EQ(regions[0].size(), in_a);
+  EXPECT_EQ(regions[1].size(), in_b);
+  EXPECT_TRUE(std::is_sorted(regions[0].begin(), regions[0].end()));
+  std::vector<char> corner(grid.faces.size(), 0);
+  corner[0] = 1;  // two faces sharing only a vertex: the first square's lower triangle and the next row's
+  const Face& first = grid.faces[0];
+  for (std::size_t f = 1; f < grid.faces.size(); ++f) {
+    int shared = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        shared += grid.faces[f][i] == first[j] ? 1 : 0;
+    if (shared == 1) {
+      corner[f] = 1;
+      break;
+    }
+  }
+  EXPECT_EQ(flaggedFaceRegions(grid, corner).size(), 2u);
+  EXPECT_THROW(flaggedFaceRegions(grid, std::vector<char>(3, 1)), Error);
 }
 
 TEST(MeshTopology, ConnectedComponents)

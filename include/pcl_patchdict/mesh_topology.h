@@ -59,5 +59,10 @@ std::vector<BoundaryLoop> computeBoundaryLoops(const TriangleMesh& mesh);
 int computeConnectedComponents(const TriangleMesh& mesh, std::vector<int>& face_component,
                                std::vector<int>& vertex_component);
 
+/** Edge-connected regions of the flagged faces (two flagged faces sharing an edge are in one
+  * region): each region's faces in increasing order, regions ordered by their smallest face.
+  * `flagged` holds one flag per face (Error otherwise). */
+std::vector<std::vector<std::int32_t>> flaggedFaceRegions(const TriangleMesh& mesh, const std::vector<char>& flagged);
+
 }  // namespace patchdict
 }  // namespace pcl
