@@ -254,8 +254,9 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
       fits[retry[k]] = refits[k];
   }
   // Residuals of clean samples of a curved or faceted surface are bias, heavy-tailed, not noise:
-  // a point is only an outlier beyond one spacing, whatever σ.
-  const double residual_limit = std::max(parameters.residual_outlier_factor * sigma, s);
+  // a point is only an outlier beyond two spacings, whatever σ (a clean boot cloud lost 632 of
+  // 95,599 points at one spacing).
+  const double residual_limit = std::max(parameters.residual_outlier_factor * sigma, 2.0 * s);
   double displacement = 0.0;
   for (std::size_t j = 0; j < kept_queries.size(); ++j) {
     const std::size_t q = kept_queries[j];

@@ -45,7 +45,7 @@ struct CloudDenoisingParameters {
   double leverage_weight = 2.0;
   /// A point farther than this × σ from its patch fitted without it (leave-one-out, the statistic σ
   /// is estimated with) is an outlier the pre-filter missed and is removed (0 keeps every fitted
-  /// point), and never closer than one spacing s (clean samples of a curved or faceted surface
+  /// point), and never closer than two spacings s (clean samples of a curved or faceted surface
   /// have heavy-tailed residuals). Gaussian inliers beyond 4σ: 0.006 %.
   double residual_outlier_factor = 4.0;
   int min_neighbours = 8;  ///< fewer usable neighbours within the support: tried at 2h, 4h, then removed
