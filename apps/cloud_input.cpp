@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 namespace pcl {
@@ -74,29 +75,45 @@ CloudInput loadCloudInput(const std::string& path)
     const pcl::PCLPointField* fields[6] = {field("x"), field("y"), field("z"),
                                            field("normal_x"), field("normal_y"), field("normal_z")};
     input.has_normals = input.has_normals && fields[3] && fields[4] && fields[5];
+    const auto value = [&](std::size_t i, int f) {
+      const std::uint8_t* at = input.blob.data.data() + i * input.blob.point_step + fields[f]->offset;
+      if (fields[f]->datatype == pcl::PCLPointField::FLOAT32) {
+        float x;
+        std::memcpy(&x, at, sizeof x);
+        return static_cast<double>(x);
+      }
+      double x;
+      std::memcpy(&x, at, sizeof x);
+      return x;
+    };
+    Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), high = -low;
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      const Eigen::Vector3d x(value(i, 0), value(i, 1), value(i, 2));
+      if (x.allFinite()) {
+        low = low.cwiseMin(x);
+        high = high.cwiseMax(x);
+      }
+    }
+    if (low.allFinite())
+      input.offset = 0.5 * (low + high);
+    input.positions.resize(cloud.size());
     for (std::size_t i = 0; i < cloud.size(); ++i) {
       double v[6] = {0, 0, 0, 0, 0, 0};
-      for (int f = 0; f < (input.has_normals ? 6 : 3); ++f) {
-        const std::uint8_t* at = input.blob.data.data() + i * input.blob.point_step + fields[f]->offset;
-        if (fields[f]->datatype == pcl::PCLPointField::FLOAT32) {
-          float x;
-          std::memcpy(&x, at, sizeof x);
-          v[f] = x;
-        } else {
-          std::memcpy(&v[f], at, sizeof v[f]);
-        }
-      }
+      for (int f = 0; f < (input.has_normals ? 6 : 3); ++f)
+        v[f] = value(i, f);
+      input.positions[i] = Eigen::Vector3d(v[0], v[1], v[2]);
       pcl::PointNormal& p = cloud[i];
-      p.x = static_cast<float>(v[0]);
-      p.y = static_cast<float>(v[1]);
-      p.z = static_cast<float>(v[2]);
+      p.x = static_cast<float>(v[0] - input.offset.x());
+      p.y = static_cast<float>(v[1] - input.offset.y());
+      p.z = static_cast<float>(v[2] - input.offset.z());
       const bool normal_ok = std::isfinite(v[3]) && std::isfinite(v[4]) && std::isfinite(v[5]);
       p.normal_x = normal_ok ? static_cast<float>(v[3]) : 0.0f;
       p.normal_y = normal_ok ? static_cast<float>(v[4]) : 0.0f;
       p.normal_z = normal_ok ? static_cast<float>(v[5]) : 0.0f;
       p.curvature = 0.0f;
     }
-    cloud.sensor_origin_ = input.origin;
+    cloud.sensor_origin_ = input.origin;  // in the cloud's shifted frame, like its points
+    cloud.sensor_origin_.head<3>() -= input.offset.cast<float>();
     cloud.sensor_orientation_ = input.orientation;
   } else {
     TriangleMesh mesh;
@@ -104,12 +121,22 @@ CloudInput loadCloudInput(const std::string& path)
     if (mesh.numFaces() > 0)
       throw Error("'" + path + "' is a mesh, not a cloud");
     input.has_normals = mesh.hasNormals();
+    input.positions = mesh.vertices;
     cloud.resize(mesh.vertices.size());
+    if (!mesh.vertices.empty()) {
+      Eigen::Vector3d low = mesh.vertices.front(), high = low;
+      for (const auto& v : mesh.vertices) {
+        low = low.cwiseMin(v);
+        high = high.cwiseMax(v);
+      }
+      input.offset = 0.5 * (low + high);
+    }
     for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
       pcl::PointNormal& p = cloud[i];
-      p.x = static_cast<float>(mesh.vertices[i].x());
-      p.y = static_cast<float>(mesh.vertices[i].y());
-      p.z = static_cast<float>(mesh.vertices[i].z());
+      const Eigen::Vector3d x = mesh.vertices[i] - input.offset;
+      p.x = static_cast<float>(x.x());
+      p.y = static_cast<float>(x.y());
+      p.z = static_cast<float>(x.z());
       const Eigen::Vector3d n = input.has_normals ? mesh.normals[i] : Eigen::Vector3d::Zero();
       p.normal_x = static_cast<float>(n.x());
       p.normal_y = static_cast<float>(n.y());

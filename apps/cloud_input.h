@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include <string>
+#include <vector>
 
 namespace pcl {
 namespace patchdict {
@@ -25,6 +26,10 @@ struct CloudInput {
   Eigen::Vector4f origin = Eigen::Vector4f::Zero();
   Eigen::Quaternionf orientation = Eigen::Quaternionf::Identity();
   double scale = 1.0;  ///< largest side of the finite points' bounding box (the normalised unit)
+  /// The cloud's positions are relative to this point (its bounding-box centre), so that float32
+  /// keeps their precision even far from the origin (float64 PCDs of georeferenced scans).
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> positions;  ///< the positions as read, in double (NaN kept)
 };
 
 /** Reads a cloud file; Error (one line) when unreadable, empty, or without a finite point. */

@@ -38,7 +38,7 @@ int runDenoise(const std::vector<std::string>& raw)
     values.insert({"output", "noise", "noise-edges", "error-factor", "fidelity", "base-iterations", "discrepancy",
                    "bandwidth", "outlier-neighbours", "outlier-std", "residual-outliers"});
     auto flags = commonFlagOptions();
-    flags.insert({"no-patches", "self-similar", "no-outlier-filter"});
+    flags.insert({"no-patches", "self-similar", "no-outlier-filter", "absolute"});
     const Arguments probe(raw, values, flags);
     if (probe.positionals().size() == 1 && isCloudFile(probe.positionals()[0]))
       return runCloudDenoise(raw);

@@ -24,11 +24,11 @@ namespace cli {
 namespace {
 
 const char* const kDenoiseUsage =
-    "pcl_patchdict denoise CLOUD.pcd|CLOUD.ply -o OUT.pcd|OUT.ply [--noise S] [--bandwidth H] [--no-outlier-filter] "
-    "[--outlier-neighbours K] [--outlier-std M] [--residual-outliers F] [--json]";
+    "pcl_patchdict denoise CLOUD.pcd|CLOUD.ply -o OUT.pcd|OUT.ply [--noise S] [--bandwidth H] [--absolute] "
+    "[--no-outlier-filter] [--outlier-neighbours K] [--outlier-std M] [--residual-outliers F] [--json]";
 const char* const kFillUsage =
-    "pcl_patchdict fill-holes CLOUD.pcd|CLOUD.ply -o OUT.pcd|OUT.ply [--max-hole-diameter D] [--denoise] [--noise S] "
-    "[--bandwidth H] [--no-outlier-filter] [--outlier-neighbours K] [--outlier-std M] [--residual-outliers F] [--json]";
+    "pcl_patchdict fill-holes CLOUD.pcd|CLOUD.ply -o OUT.pcd|OUT.ply [--max-hole-diameter D] [--denoise] [--absolute] "
+    "[--noise S] [--bandwidth H] [--no-outlier-filter] [--outlier-neighbours K] [--outlier-std M] [--residual-outliers F] [--json]";
 
 // Offset and type of a named field of one value (float32 / float64), or nullptr.
 const pcl::PCLPointField* findField(const pcl::PCLPointCloud2& blob, const char* name)
@@ -60,7 +60,9 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
   auto values = commonValueOptions();
   values.insert({"output", "noise", "bandwidth", "outlier-neighbours", "outlier-std", "residual-outliers"});
   auto flags = commonFlagOptions();
-  flags.insert("no-outlier-filter");
+  // --no-patches asks for the geometric result, which is what the cloud path gives: accepted.
+  flags.insert({"no-outlier-filter", "absolute", "no-patches"});
+  values.insert("dict");
   if (fill) {
     values.insert({"max-hole-diameter", "rim-width"});
     flags.insert("denoise");
@@ -84,15 +86,19 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
   parameters.outlier_neighbours = static_cast<int>(args.getInt("outlier-neighbours", 50, 1, 1000));
   parameters.outlier_std = args.getDouble("outlier-std", 1.0, 0.0, 1e6);
   parameters.residual_outlier_factor = args.getDouble("residual-outliers", 4.0, 0.0, 1e6);
-  const double noise = args.getDouble("noise", 0.0, 0.0, 1.0);
-  const double bandwidth = args.getDouble("bandwidth", 0.0, 0.0, 1.0);
-  const double max_hole_diameter = args.getDouble("max-hole-diameter", 0.15, 1e-9, 1e9);
+  const double noise = args.getDouble("noise", 0.0, 0.0, 1e300);
+  const double bandwidth = args.getDouble("bandwidth", 0.0, 0.0, 1e300);
+  const double max_hole_diameter = args.getDouble("max-hole-diameter", 0.15, 1e-300, 1e300);
 
   StageTimer timer(quiet);
   timer.start("load");
-  CloudInput input = loadCloudInput(in_path);
+  CloudInput input = loadCloudInput(in_path);  // an unreadable input is reported first
+  if (args.has("dict"))
+    throw UsageError("--dict: the cloud path fits local quadric patches and takes no dictionary (yet)");
   const pcl::PointCloud<pcl::PointNormal>::Ptr& cloud = input.cloud;
-  const double scale = input.scale;  // largest bounding-box side: the unit of --noise and --bandwidth
+  // Lengths (--noise, --bandwidth, --max-hole-diameter, and the report's) are in units of the largest
+  // bounding-box side, or the cloud's own with --absolute.
+  const double scale = args.has("absolute") ? 1.0 : input.scale;
   parameters.noise_sigma = noise * scale;
   parameters.bandwidth = bandwidth * scale;
   note(quiet, "  " + std::to_string(cloud->size()) + " points" +
@@ -152,6 +158,12 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
   }
 
   timer.start("write");
+  // Complete mode: the first output points are the input's, to be written exactly as read.
+  const std::size_t unchanged = mode == Inpainter::Mode::Complete ? report.output_points : 0;
+  const auto position = [&](std::size_t i) {
+    return i < unchanged ? input.positions[static_cast<std::size_t>(records[i])]
+                         : Eigen::Vector3d(Eigen::Vector3d(denoised[i].x, denoised[i].y, denoised[i].z) + input.offset);
+  };
   if (out_format == MeshFormat::PCD && input.from_pcd) {
     // Every field carried: the input's records, with positions (and normals, if it has them) replaced.
     pcl::PCLPointCloud2 out;
@@ -162,9 +174,9 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
     const pcl::PCLPointField* fny = input.has_normals ? findField(input.blob, "normal_y") : nullptr;
     const pcl::PCLPointField* fnz = input.has_normals ? findField(input.blob, "normal_z") : nullptr;
     const auto writePoint = [&](pcl::PCLPointCloud2& blob, std::size_t i, const pcl::PointNormal& p) {
-      writeValue(blob, i, *fx, p.x);
-      writeValue(blob, i, *fy, p.y);
-      writeValue(blob, i, *fz, p.z);
+      writeValue(blob, i, *fx, p.x + input.offset.x());
+      writeValue(blob, i, *fy, p.y + input.offset.y());
+      writeValue(blob, i, *fz, p.z + input.offset.z());
       if (fnx && fny && fnz) {
         writeValue(blob, i, *fnx, p.normal_x);
         writeValue(blob, i, *fny, p.normal_y);
@@ -189,27 +201,33 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
       for (std::size_t i = 0; i < records.size(); ++i) {
         std::memcpy(out.data.data() + i * out.point_step,
                     input.blob.data.data() + static_cast<std::size_t>(records[i]) * input.blob.point_step, out.point_step);
-        writePoint(out, i, denoised[i]);
+        if (i >= unchanged)  // Complete keeps the input's records as they are
+          writePoint(out, i, denoised[i]);
       }
-      out.is_dense = true;
+      out.is_dense = denoised.is_dense;
     }
     writePointCloudBlob(out_path, out, input.origin, input.orientation);
   } else if (out_format == MeshFormat::PCD) {
     pcl::PCLPointCloud2 out;
+    pcl::PointCloud<pcl::PointNormal> placed(denoised);
+    for (std::size_t i = 0; i < placed.size(); ++i)
+      placed[i].getVector3fMap() = position(i).cast<float>();
     if (input.has_normals) {
-      pcl::toPCLPointCloud2(denoised, out);
+      pcl::toPCLPointCloud2(placed, out);
     } else {
       pcl::PointCloud<pcl::PointXYZ> positions;
-      pcl::copyPointCloud(denoised, positions);
+      pcl::copyPointCloud(placed, positions);
       pcl::toPCLPointCloud2(positions, out);
     }
     writePointCloudBlob(out_path, out, input.origin, input.orientation);
   } else {
-    TriangleMesh out;  // vertices only: a PLY cloud
-    for (const auto& p : denoised) {
-      if (!std::isfinite(p.x))
+    TriangleMesh out;  // vertices only: a PLY cloud (NaN points are not written)
+    for (std::size_t i = 0; i < denoised.size(); ++i) {
+      const pcl::PointNormal& p = denoised[i];
+      const Eigen::Vector3d x = position(i);
+      if (!x.allFinite())
         continue;
-      out.vertices.emplace_back(p.x, p.y, p.z);
+      out.vertices.push_back(x);
       if (input.has_normals)
         out.normals.emplace_back(p.normal_x, p.normal_y, p.normal_z);
     }

@@ -37,7 +37,7 @@ int runFillHoles(const std::vector<std::string>& raw)
     values.insert({"output", "max-hole-edges", "max-hole-diameter", "hole-factor", "surface", "noise", "bandwidth",
                    "outlier-neighbours", "outlier-std", "residual-outliers", "rim-width"});
     auto flags = commonFlagOptions();
-    flags.insert({"no-patches", "absolute", "denoise", "no-outlier-filter"});
+    flags.insert({"no-patches", "absolute", "denoise", "no-outlier-filter"});  // --absolute: both paths
     const Arguments probe(raw, values, flags);
     if (probe.positionals().size() == 1 && isCloudFile(probe.positionals()[0]))
       return runCloudFillHoles(raw);

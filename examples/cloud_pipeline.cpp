@@ -47,7 +47,7 @@ int main(int argc, char** argv)
     poisson.reconstruct(mesh);
     if (mesh.polygons.empty())
       throw std::runtime_error("Poisson reconstruction gave no triangles");
-    if (pcl::io::savePLYFile(argv[2], mesh) < 0)
+    if (pcl::io::savePLYFileBinary(argv[2], mesh) < 0)
       throw std::runtime_error(std::string("cannot write ") + argv[2]);
     const pcl::patchdict::CloudDenoisingReport& r = denoiser.getReport();
     std::printf("points in %zu, after SOR %zu, out %zu (noise sigma %.3g, bandwidth %.3g); triangles %zu -> %s\n",

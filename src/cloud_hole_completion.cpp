@@ -47,12 +47,18 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
                         std::vector<Eigen::Vector3d>& added, std::vector<Eigen::Vector3d>& added_normals,
                         std::vector<std::size_t>& added_source, CloudCompletionReport& report)
 {
-  if (points.size() != normals.size() || points.size() < CoarseMeshEstimation::getMinimumPoints())
-    throw Error("cloud completion: at least 100 points, each with a normal, are needed");
+  if (points.size() != normals.size())
+    throw Error("cloud completion: one normal per point is needed");
+  if (points.size() < CoarseMeshEstimation::getMinimumPoints())
+    throw Error("cloud completion: " + std::to_string(points.size()) +
+                " points are left after outlier removal; at least 100 are needed");
   if (!(spacing > 0.0) || !std::isfinite(spacing) || !(parameters.gap_factor > 0.0) || parameters.min_gap_faces < 1 ||
       !(parameters.max_hole_diameter >= 0.0) || !(parameters.rim_width > 0.0) || parameters.max_rim_points < 10 ||
       !(parameters.smoothing >= 0.0) || !(parameters.clearance >= 0.0))
     throw Error("cloud completion: parameters out of range");
+#ifdef _OPENMP
+  const int threads = parameters.num_threads > 0 ? parameters.num_threads : omp_get_max_threads();
+#endif
   added.clear();
   added_normals.clear();
   added_source.clear();
@@ -103,7 +109,7 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
   std::vector<char> far(surface.faces.size(), 0);
   std::vector<Eigen::Vector3d> centroids(surface.faces.size());
   const double far_limit = parameters.gap_factor * spacing;
-#pragma omp parallel
+#pragma omp parallel num_threads(threads)
   {
     pcl::Indices index;
     std::vector<float> squared;
@@ -147,7 +153,7 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
   start = Clock::now();
   std::vector<HoleFill> fills(gaps.size());
   const auto ng = static_cast<std::ptrdiff_t>(gaps.size());
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (std::ptrdiff_t g = 0; g < ng; ++g) {
     const Gap& gap = gaps[static_cast<std::size_t>(g)];
     HoleFill& fill = fills[static_cast<std::size_t>(g)];

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <mutex>
 #include <numeric>
 #include <queue>
 #include <tuple>
@@ -416,6 +417,10 @@ void CoarseMeshEstimation::processCloud(TriangleMesh& out, Report* report) const
   poisson.setThreads(1);
   pcl::PolygonMesh polygons;
   {
+    // PCL 1.13's Poisson keeps its octree allocator in a static that every reconstruction resets:
+    // two at once (two threads, two inpainters) would free each other's octree. One at a time.
+    static std::mutex poisson_mutex;
+    const std::lock_guard<std::mutex> lock(poisson_mutex);
     const ThirdPartyOutputMuted muted;
     poisson.reconstruct(polygons);
   }

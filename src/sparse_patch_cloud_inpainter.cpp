@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <deque>
 #include <limits>
 
 #ifdef _OPENMP
@@ -90,7 +91,10 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
   std::vector<char> finite(nq, 0);
   for (std::size_t q = 0; q < nq; ++q)
     finite[q] = (queries[q] < points.size() && usable[queries[q]]) ? 1 : 0;
+  // The spacing needs the first distinct neighbour: at least 8 are searched, so that stacked
+  // duplicates (scanners repeat points) do not hide it.
   const int k = parameters.outlier_filter ? parameters.outlier_neighbours : 1;
+  const int searched = std::max(k, 8);
   std::vector<double> mean_distance(nq, 0.0), nearest(nq, 0.0);
 #pragma omp parallel num_threads(threads)
   {
@@ -101,17 +105,19 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
       const auto q = static_cast<std::size_t>(s);
       if (!finite[q])
         continue;
-      knn(queries[q], k + 1, found, squared);
+      knn(queries[q], searched + 1, found, squared);
       double sum = 0.0;
       int counted = 0;
-      for (std::size_t j = 0; j < found.size() && counted < k; ++j) {
+      for (std::size_t j = 0; j < found.size(); ++j) {
         if (static_cast<std::size_t>(found[j]) == queries[q])
           continue;
         const double d = std::sqrt(static_cast<double>(squared[j]));
         if (nearest[q] == 0.0 && d > 0.0)
           nearest[q] = d;
-        sum += d;
-        ++counted;
+        if (counted < k) {
+          sum += d;
+          ++counted;
+        }
       }
       mean_distance[q] = counted ? sum / counted : 0.0;
     }
@@ -128,9 +134,10 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
       }
     mean /= static_cast<double>(std::max<std::size_t>(count, 1));
     const double deviation = std::sqrt(std::max(0.0, square / static_cast<double>(std::max<std::size_t>(count, 1)) - mean * mean));
-    // Floor at 1.5 × the mean: on a regular grid (a depth image) the deviation is tiny and the rim's
-    // slightly larger distances would otherwise count as outliers.
-    const double threshold = std::max(mean + parameters.outlier_std * deviation, 1.5 * mean);
+    // Floor at 2.5 × the mean: on a regular grid (a depth image) the deviation is tiny and the rim's
+    // larger distances would otherwise count as outliers (a corner's quarter-disc neighbourhood
+    // doubles them; 1.5 × lost the four corner cells of a clean 80 × 60 grid).
+    const double threshold = std::max(mean + parameters.outlier_std * deviation, 2.5 * mean);
     for (std::size_t q = 0; q < nq; ++q)
       if (finite[q] && mean_distance[q] > threshold) {
         passed[q] = 0;
@@ -287,14 +294,48 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
       any_input_normal = kept[q] && !normals.empty() && !normals[queries[q]].isZero();
     if (any_input_normal || viewpoint) {
       report.normal_orientation = any_input_normal ? "input normals" : "viewpoint";
+      std::vector<char> oriented(nq, 0);
       for (std::size_t q = 0; q < nq; ++q) {
         if (!kept[q])
           continue;
+        const bool has_input = any_input_normal && !normals[queries[q]].isZero();
+        if (!has_input && !viewpoint)
+          continue;  // no normal of its own: from its neighbours, below
         const Eigen::Vector3d reference =
-            any_input_normal ? normals[queries[q]] : Eigen::Vector3d(*viewpoint - out_positions[q]);
+            has_input ? normals[queries[q]] : Eigen::Vector3d(*viewpoint - out_positions[q]);
         if (out_normals[q].dot(reference) < 0.0) {
           out_normals[q] = -out_normals[q];
           ++report.normals_flipped;
+        }
+        oriented[q] = 1;
+      }
+      // Points without an input normal (NaN or zero in a cloud that has some), and no viewpoint:
+      // oriented outwards from the oriented ones, breadth first over 16 nearest neighbours, each
+      // agreeing with the neighbour it was reached from.
+      std::vector<std::ptrdiff_t> query_of(points.size(), -1);
+      for (std::size_t q = 0; q < nq; ++q)
+        query_of[queries[q]] = static_cast<std::ptrdiff_t>(q);
+      std::deque<std::size_t> frontier;
+      for (std::size_t q = 0; q < nq; ++q)
+        if (oriented[q])
+          frontier.push_back(q);
+      pcl::Indices found;
+      std::vector<float> squared;
+      while (!frontier.empty()) {
+        const std::size_t from = frontier.front();
+        frontier.pop_front();
+        knn(queries[from], 16, found, squared);
+        for (const auto j : found) {
+          const std::ptrdiff_t other = query_of[static_cast<std::size_t>(j)];
+          if (other < 0 || !kept[static_cast<std::size_t>(other)] || oriented[static_cast<std::size_t>(other)])
+            continue;
+          const auto to = static_cast<std::size_t>(other);
+          if (out_normals[to].dot(out_normals[from]) < 0.0) {
+            out_normals[to] = -out_normals[to];
+            ++report.normals_flipped;
+          }
+          oriented[to] = 1;
+          frontier.push_back(to);
         }
       }
     } else {

@@ -176,6 +176,8 @@ TEST(SparsePatchCloudInpainter, OrganisedCloudKeepsItsGridNanCellsAndColours)
     }
   EXPECT_EQ(finite, report.output_points);
   EXPECT_GE(finite, std::size_t{w * h - nan_cells - 100});
+  for (const auto& [c, r] : {std::pair<std::uint32_t, std::uint32_t>{0, 0}, {w - 1, 0}, {0, h - 1}, {w - 1, h - 1}})
+    EXPECT_TRUE(std::isfinite(out.at(c, r).x)) << "corner " << c << ", " << r << " removed";
 }
 
 TEST(SparsePatchCloudInpainter, NormalsOfABareClosedCloudPointOutwards)
@@ -190,6 +192,58 @@ TEST(SparsePatchCloudInpainter, NormalsOfABareClosedCloudPointOutwards)
   for (const auto& p : out)
     outward += Eigen::Vector3f(p.normal_x, p.normal_y, p.normal_z).dot(Eigen::Vector3f(p.x, p.y, p.z)) > 0.9f ? 1 : 0;
   EXPECT_EQ(outward, out.size());
+}
+
+TEST(SparsePatchCloudInpainter, PointsMissingTheirInputNormalAreOrientedLikeTheirNeighbours)
+{
+  // Half the sphere comes with outward normals, the other half with NaN ones (as
+  // pcl::NormalEstimation leaves them): every output normal points outwards.
+  const auto positions = noisySphere(6000, 0.002, 0, 12);
+  auto cloud = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+  for (const auto& p : *positions) {
+    pcl::PointNormal q;
+    q.getVector3fMap() = p.getVector3fMap();
+    q.getNormalVector3fMap() = p.z > 0.0f ? Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN())
+                                          : Eigen::Vector3f(p.getVector3fMap().normalized());
+    cloud->push_back(q);
+  }
+  SparsePatchCloudInpainter<pcl::PointNormal> inpainter;
+  inpainter.setInputCloud(cloud);
+  pcl::PointCloud<pcl::PointNormal> out;
+  inpainter.process(out);
+  std::size_t inward = 0;
+  for (const auto& p : out)
+    inward += p.getNormalVector3fMap().dot(p.getVector3fMap()) < 0.0f ? 1 : 0;
+  EXPECT_EQ(inward, 0u);
+}
+
+TEST(SparsePatchCloudInpainter, IndicesOutsideTheCloudAndStackedDuplicates)
+{
+  const auto cloud = noisySphere(3000, 0.003, 0, 13);
+  SparsePatchCloudInpainter<pcl::PointXYZ> inpainter;
+  inpainter.setInputCloud(cloud);
+  auto indices = std::make_shared<pcl::Indices>();
+  for (int i = 0; i < 2000; ++i)
+    indices->push_back(i);
+  indices->push_back(3000);
+  inpainter.setIndices(indices);
+  pcl::PointCloud<pcl::PointXYZ> out;
+  EXPECT_THROW(inpainter.process(out), Error);
+  indices->pop_back();
+  inpainter.process(out);
+  EXPECT_GE(out.size(), 1900u);
+  EXPECT_EQ(inpainter.getKeptIndices().size(), out.size());
+  EXPECT_LT(inpainter.getKeptIndices().back(), 2000);
+
+  // Every point stored twice, the pre-filter off: the spacing is still found.
+  auto doubled = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>(*cloud);
+  *doubled += *cloud;
+  SparsePatchCloudInpainter<pcl::PointXYZ> twice;
+  twice.setInputCloud(doubled);
+  twice.setOutlierFilter(false);
+  twice.process(out);
+  EXPECT_GT(twice.getReport().mean_spacing, 0.0);
+  EXPECT_GE(out.size(), 5900u);
 }
 
 TEST(SparsePatchCloudInpainter, SameOutputWhateverTheThreadCount)

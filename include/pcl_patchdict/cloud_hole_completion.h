@@ -15,7 +15,10 @@ struct CloudCompletionParameters {
   /// closes with a cap; 0 = 0.15 × the largest side of the cloud's bounding box.
   double max_hole_diameter = 0.0;
   double gap_factor = 3.0;   ///< Poisson faces farther than this × s from every point are gaps
-  int min_gap_faces = 20;    ///< fewer connected gap faces: a gap between random samples, not a hole
+  /// Fewer connected gap faces: a gap between random samples, not a hole. With gap_factor this sets
+  /// the smallest hole found: wider than ~2 × 3 s plus a few Poisson cells (cell ≤ 4 s) — an 80 × 60
+  /// grid's hole of radius 6 cells was not found, one of 12 cells was.
+  int min_gap_faces = 20;
   int poisson_depth = 0;     ///< 0 = the smallest depth whose cell is at most 4 s (it only finds the gaps)
   double rim_width = 0.3;    ///< the rim: points within (1 + rim_width) × the hole's radius of its centre (boot, lucy: 0.3 covers 62 %, 29 % of the hole points; 1.0 53 %, 22 %)
   int max_rim_points = 800;  ///< the spline goes through an evenly spaced subset of at most this many

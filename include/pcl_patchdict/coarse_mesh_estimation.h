@@ -52,7 +52,8 @@ namespace patchdict {
   *     to the rim's samples: part of it stays (+2 % area on random samples of an open plane or
   *     hemisphere, +12 % on their regular vertex grids, against +21 % / +46 % untrimmed);
   *  5. the same smoothing as for a mesh (rims of the trimmed surface slide along themselves).
-  * pcl::Poisson keeps global state: do not run two cloud estimations at the same time. */
+  * pcl::Poisson keeps global state: reconstructions are serialised by a process-wide mutex (two
+  * cloud estimations in two threads are safe, the Poisson stage of one waits for the other). */
 class CoarseMeshEstimation {
 public:
   using Ptr = std::shared_ptr<CoarseMeshEstimation>;

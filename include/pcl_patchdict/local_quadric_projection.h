@@ -32,7 +32,8 @@ struct LocalQuadricFit {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< the query moved onto the height field
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();    ///< unit normal of the height field there (sign arbitrary)
   double residual = 0.0;  ///< signed height of the query above the field, along the PCA normal
-  /// The same with the query's own sample left out of the height fit (= residual with leave_one_out)
+  /// The same with the query's own sample left out of the height fit, in the same frame (with
+  /// leave_one_out the frame too is made without it: a slightly different statistic)
   double loo_residual = 0.0;
   /// ∂(fitted height at the query)/∂(the query's own height): the diagonal of the smoother matrix
   /// (0 with leave_one_out), for Stein's unbiased risk estimate of the bandwidth

@@ -26,13 +26,14 @@ namespace patchdict {
 struct CloudDenoisingParameters {
   /// Statistical pre-filter (as pcl::StatisticalOutlierRemoval): a point whose mean distance to its
   /// outlier_neighbours nearest is above mean + outlier_std × stddev of that over all points, and
-  /// above 1.5 × the mean (so a regular grid keeps its rim), goes.
+  /// above 2.5 × the mean (so a regular grid keeps its rim and corners), goes.
   bool outlier_filter = true;
   int outlier_neighbours = 50;
   double outlier_std = 1.0;
-  /// σ of the noise along the normals; 0 = estimated (1.4826 × median |leave-one-out residual| of
-  /// local quadrics at bandwidth 3 s, over up to noise_sample evenly spaced points; the bandwidth's
-  /// risk is estimated over the same sample).
+  /// σ of the noise along the normals; 0 = estimated: 1.4826 × median |leave-one-out residual| of
+  /// local quadrics at bandwidth 3 s (frame and fit without the point), over up to noise_sample
+  /// evenly spaced points, divided by √(1 + their mean leverage) (the prediction's own variance).
+  /// The bandwidth's risk is estimated over the same sample.
   double noise_sigma = 0.0;
   int noise_sample = 8000;
   /// h of the local patches; 0 = chosen among bandwidth_candidates × s (s the mean
@@ -43,8 +44,8 @@ struct CloudDenoisingParameters {
   /// data — its PCA frame moves with the noise — and with 1 the risk chose a step too small on every
   /// harness case (boot σ = 0.5 s: 2.5 s, rms 0.559 against 0.554 at 3 s).
   double leverage_weight = 2.0;
-  /// A point farther than this × σ from its patch fitted without it (leave-one-out, the statistic σ
-  /// is estimated with) is an outlier the pre-filter missed and is removed (0 keeps every fitted
+  /// A point farther than this × σ from its patch's height fit without it (its frame kept) is an
+  /// outlier the pre-filter missed and is removed (0 keeps every fitted
   /// point), and never closer than two spacings s (clean samples of a curved or faceted surface
   /// have heavy-tailed residuals). Gaussian inliers beyond 4σ: 0.006 %.
   double residual_outlier_factor = 4.0;
@@ -110,8 +111,9 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
   *     copied from the nearest input point. Poisson's caps over wider openings never become points.
   *
   * Other fields (colour, intensity, labels…) are carried from the input point to the moved one.
-  * An organised input (height > 1) keeps its width and height: removed and non-finite points become
-  * NaN (is_dense false). An unorganised one gives the kept points in input order.
+  * In Denoise mode an organised input (height > 1, whole: no indices or all of them in order) keeps
+  * its width and height: removed and non-finite points become NaN (is_dense false); otherwise the
+  * kept points come in input (index) order, followed by the new ones in the Complete modes.
   *
   * Measured against PCL's StatisticalOutlierRemoval + MovingLeastSquares at its best radius on the
   * harness's noisy clouds: see README "Point clouds". Deterministic for a given input and
@@ -126,9 +128,10 @@ public:
   using PointCloudOut = pcl::PointCloud<PointOutT>;
   using KdTreePtr = typename pcl::search::Search<PointInT>::Ptr;
 
-  /** Denoise: every kept point moved onto its patch. Complete: the points stay where they are
-    * (outliers still go) and new points fill the holes. DenoiseAndComplete: both, the holes filled
-    * from the denoised points. */
+  /** Denoise: every kept point moved onto its patch. Complete: the output is the processed input
+    * unchanged and whole (fields, NaN points and outliers included: outliers are only kept out of
+    * the surface the holes are filled from), followed by the new points. DenoiseAndComplete: the
+    * denoised points, then the new ones filled from them. */
   enum class Mode { Denoise, Complete, DenoiseAndComplete };
 
   SparsePatchCloudInpainter() = default;

@@ -41,7 +41,17 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
         normals[i] = n.normalized();
     }
   }
-  std::vector<std::size_t> queries(indices_->begin(), indices_->end());
+  std::vector<std::size_t> queries;
+  queries.reserve(indices_->size());
+  bool identity = indices_->size() == input.size();
+  for (std::size_t q = 0; q < indices_->size(); ++q) {
+    const auto index = (*indices_)[q];
+    if (index < 0 || static_cast<std::size_t>(index) >= input.size())
+      throw Error("index " + std::to_string(index) + " is outside the cloud of " + std::to_string(input.size()) +
+                  " points");
+    identity = identity && static_cast<std::size_t>(index) == q;
+    queries.push_back(static_cast<std::size_t>(index));
+  }
 
   KdTreePtr tree = tree_;
   if (!tree)
@@ -105,21 +115,26 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
     for (std::size_t& source : added_source)
       source = owner[source];
   }
-  // Complete: the points stay where they were (only the outliers went); the holes were filled from
-  // the patches' surface all the same, so that noise in the rim does not go into the fill.
-  if (mode_ == Mode::Complete)
-    for (std::size_t q = 0; q < queries.size(); ++q)
-      if (kept[q])
-        moved[q] = points[queries[q]];
+  // Complete: the output is the input, unchanged and whole (outliers and NaN points too), followed
+  // by the new points; outliers were only kept out of the surface the holes were filled from, and
+  // the fill came from the patches' surface so that noise in the rim does not go into it.
+  const bool keep_input = mode_ == Mode::Complete;
+  if (keep_input) {
+    report_.mean_displacement = 0.0;
+    report_.output_points = queries.size();
+  }
+  report_.normals_computed = pcl::traits::has_normal_v<PointOutT>;
 
   kept_indices_.clear();
   for (std::size_t q = 0; q < queries.size(); ++q)
-    if (kept[q])
+    if (kept[q] || keep_input)
       kept_indices_.push_back(static_cast<pcl::index_t>(queries[q]));
-  const bool keep_grid = organised && keep_organized_ && queries.size() == input.size() && !completing;
+  const bool keep_grid = organised && keep_organized_ && identity && !completing;
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const auto fill = [&](std::size_t q, PointOutT& out) {
     pcl::copyPoint(input[queries[q]], out);
+    if (keep_input)
+      return;
     if (!kept[q]) {
       out.x = out.y = out.z = nan;
       if constexpr (pcl::traits::has_normal_v<PointOutT>)
@@ -147,10 +162,12 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
     output.is_dense = report_.output_points == input.size();
   } else {
     output.reserve(report_.output_points + added.size());
+    bool finite_only = true;
     for (std::size_t q = 0; q < queries.size(); ++q)
-      if (kept[q]) {
+      if (kept[q] || keep_input) {
         PointOutT p;
         fill(q, p);
+        finite_only = finite_only && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
         output.push_back(p);
       }
     for (std::size_t k = 0; k < added.size(); ++k) {
@@ -169,7 +186,7 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
     }
     output.width = static_cast<std::uint32_t>(output.size());
     output.height = 1;
-    output.is_dense = true;
+    output.is_dense = finite_only;
   }
 }
 
