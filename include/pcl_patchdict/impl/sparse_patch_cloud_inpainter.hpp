@@ -131,6 +131,19 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
       kept_indices_.push_back(static_cast<pcl::index_t>(queries[q]));
   const bool keep_grid = organised && keep_organized_ && identity && !completing;
   const float nan = std::numeric_limits<float>::quiet_NaN();
+  // Position (and normal, if the type has one) of an output point; its other fields are copied.
+  const auto place = [](PointOutT& out, const Eigen::Vector3d& position, const Eigen::Vector3d& normal) {
+    out.x = static_cast<float>(position.x());
+    out.y = static_cast<float>(position.y());
+    out.z = static_cast<float>(position.z());
+    if constexpr (pcl::traits::has_normal_v<PointOutT>) {
+      out.normal_x = static_cast<float>(normal.x());
+      out.normal_y = static_cast<float>(normal.y());
+      out.normal_z = static_cast<float>(normal.z());
+    } else {
+      (void)normal;
+    }
+  };
   const auto fill = [&](std::size_t q, PointOutT& out) {
     pcl::copyPoint(input[queries[q]], out);
     if (keep_input)
@@ -141,14 +154,7 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
         out.normal_x = out.normal_y = out.normal_z = nan;
       return;
     }
-    out.x = static_cast<float>(moved[q].x());
-    out.y = static_cast<float>(moved[q].y());
-    out.z = static_cast<float>(moved[q].z());
-    if constexpr (pcl::traits::has_normal_v<PointOutT>) {
-      out.normal_x = static_cast<float>(moved_normals[q].x());
-      out.normal_y = static_cast<float>(moved_normals[q].y());
-      out.normal_z = static_cast<float>(moved_normals[q].z());
-    }
+    place(out, moved[q], moved_normals[q]);
   };
   const auto header = output.header;
   output.clear();
@@ -173,14 +179,7 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
     for (std::size_t k = 0; k < added.size(); ++k) {
       PointOutT p;
       pcl::copyPoint(input[added_source[k]], p);
-      p.x = static_cast<float>(added[k].x());
-      p.y = static_cast<float>(added[k].y());
-      p.z = static_cast<float>(added[k].z());
-      if constexpr (pcl::traits::has_normal_v<PointOutT>) {
-        p.normal_x = static_cast<float>(added_normals[k].x());
-        p.normal_y = static_cast<float>(added_normals[k].y());
-        p.normal_z = static_cast<float>(added_normals[k].z());
-      }
+      place(p, added[k], added_normals[k]);
       output.push_back(p);
       added_sources_.push_back(static_cast<pcl::index_t>(added_source[k]));
     }
