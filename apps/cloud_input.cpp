@@ -1,5 +1,6 @@
 // Cloud inputs (see cloud_input.h).
 #include "cloud_input.h"
+#include "cli.h"
 
 #include <pcl_patchdict/error.h>
 #include <pcl_patchdict/mesh_io.h>
@@ -48,6 +49,58 @@ bool isCloudFile(const std::string& path)
   return ended && !faces;
 }
 
+std::set<std::string> cloudValueOptions(bool fill)
+{
+  auto values = commonValueOptions();
+  values.insert({"output", "noise", "bandwidth", "outlier-neighbours", "outlier-std", "residual-outliers", "dict"});
+  if (fill)
+    values.insert({"max-hole-diameter", "rim-width"});
+  return values;
+}
+
+std::set<std::string> cloudFlagOptions(bool fill)
+{
+  // --no-patches asks for the geometric result, which is what the cloud path gives: accepted.
+  auto flags = commonFlagOptions();
+  flags.insert({"no-outlier-filter", "absolute", "no-patches"});
+  if (fill)
+    flags.insert("denoise");
+  return flags;
+}
+
+const pcl::PCLPointField* findScalarField(const pcl::PCLPointCloud2& blob, const char* name)
+{
+  for (const auto& field : blob.fields)
+    if (field.name == name && field.count == 1 &&
+        (field.datatype == pcl::PCLPointField::FLOAT32 || field.datatype == pcl::PCLPointField::FLOAT64))
+      return &field;
+  return nullptr;
+}
+
+double readScalar(const pcl::PCLPointCloud2& blob, std::size_t point, const pcl::PCLPointField& field)
+{
+  const std::uint8_t* at = blob.data.data() + point * blob.point_step + field.offset;
+  if (field.datatype == pcl::PCLPointField::FLOAT32) {
+    float v;
+    std::memcpy(&v, at, sizeof v);
+    return v;
+  }
+  double v;
+  std::memcpy(&v, at, sizeof v);
+  return v;
+}
+
+void writeScalar(pcl::PCLPointCloud2& blob, std::size_t point, const pcl::PCLPointField& field, double value)
+{
+  std::uint8_t* at = blob.data.data() + point * blob.point_step + field.offset;
+  if (field.datatype == pcl::PCLPointField::FLOAT32) {
+    const auto v = static_cast<float>(value);
+    std::memcpy(at, &v, sizeof v);
+  } else {
+    std::memcpy(at, &value, sizeof value);
+  }
+}
+
 CloudInput loadCloudInput(const std::string& path)
 {
   CloudInput input;
@@ -56,36 +109,16 @@ CloudInput loadCloudInput(const std::string& path)
   if (formatFromPath(path) == MeshFormat::PCD) {
     input.from_pcd = true;
     readPointCloudBlob(path, input.blob, input.origin, input.orientation);
-    const auto has = [&](const char* name) {
-      return std::any_of(input.blob.fields.begin(), input.blob.fields.end(),
-                         [&](const pcl::PCLPointField& f) { return f.name == name; });
-    };
-    input.has_normals = has("normal_x") && has("normal_y") && has("normal_z");
     // x/y/z may be float64 in a PCD; PCL's conversion wants float32: convert by hand.
     cloud.resize(static_cast<std::size_t>(input.blob.width) * input.blob.height);
     cloud.width = input.blob.width;
     cloud.height = input.blob.height;
-    const auto field = [&](const char* name) -> const pcl::PCLPointField* {
-      for (const auto& f : input.blob.fields)
-        if (f.name == name && f.count == 1 &&
-            (f.datatype == pcl::PCLPointField::FLOAT32 || f.datatype == pcl::PCLPointField::FLOAT64))
-          return &f;
-      return nullptr;
-    };
-    const pcl::PCLPointField* fields[6] = {field("x"), field("y"), field("z"),
-                                           field("normal_x"), field("normal_y"), field("normal_z")};
-    input.has_normals = input.has_normals && fields[3] && fields[4] && fields[5];
-    const auto value = [&](std::size_t i, int f) {
-      const std::uint8_t* at = input.blob.data.data() + i * input.blob.point_step + fields[f]->offset;
-      if (fields[f]->datatype == pcl::PCLPointField::FLOAT32) {
-        float x;
-        std::memcpy(&x, at, sizeof x);
-        return static_cast<double>(x);
-      }
-      double x;
-      std::memcpy(&x, at, sizeof x);
-      return x;
-    };
+    const pcl::PCLPointField* fields[6] = {
+        findScalarField(input.blob, "x"),        findScalarField(input.blob, "y"),
+        findScalarField(input.blob, "z"),        findScalarField(input.blob, "normal_x"),
+        findScalarField(input.blob, "normal_y"), findScalarField(input.blob, "normal_z")};
+    input.has_normals = fields[3] && fields[4] && fields[5];
+    const auto value = [&](std::size_t i, int f) { return readScalar(input.blob, i, *fields[f]); };
     Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), high = -low;
     for (std::size_t i = 0; i < cloud.size(); ++i) {
       const Eigen::Vector3d x(value(i, 0), value(i, 1), value(i, 2));

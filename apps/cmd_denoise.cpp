@@ -33,12 +33,11 @@ int runDenoise(const std::vector<std::string>& raw)
 {
   // A point cloud (.pcd, face-less .ply) takes the cloud path, with its own options.
   {
-    auto values = commonValueOptions();
+    auto values = cloudValueOptions(false);
     values.insert(repairValueOptions().begin(), repairValueOptions().end());
-    values.insert({"output", "noise", "noise-edges", "error-factor", "fidelity", "base-iterations", "discrepancy",
-                   "bandwidth", "outlier-neighbours", "outlier-std", "residual-outliers"});
-    auto flags = commonFlagOptions();
-    flags.insert({"no-patches", "self-similar", "no-outlier-filter", "absolute"});
+    values.insert({"noise-edges", "error-factor", "fidelity", "base-iterations", "discrepancy"});
+    auto flags = cloudFlagOptions(false);
+    flags.insert("self-similar");
     const Arguments probe(raw, values, flags);
     if (probe.positionals().size() == 1 && isCloudFile(probe.positionals()[0]))
       return runCloudDenoise(raw);

@@ -30,43 +30,14 @@ const char* const kFillUsage =
     "pcl_patchdict fill-holes CLOUD.pcd|CLOUD.ply -o OUT.pcd|OUT.ply [--max-hole-diameter D] [--denoise] [--absolute] "
     "[--noise S] [--bandwidth H] [--no-outlier-filter] [--outlier-neighbours K] [--outlier-std M] [--residual-outliers F] [--json]";
 
-// Offset and type of a named field of one value (float32 / float64), or nullptr.
-const pcl::PCLPointField* findField(const pcl::PCLPointCloud2& blob, const char* name)
-{
-  for (const auto& field : blob.fields)
-    if (field.name == name && field.count == 1 &&
-        (field.datatype == pcl::PCLPointField::FLOAT32 || field.datatype == pcl::PCLPointField::FLOAT64))
-      return &field;
-  return nullptr;
-}
-
-void writeValue(pcl::PCLPointCloud2& blob, std::size_t point, const pcl::PCLPointField& field, double value)
-{
-  std::uint8_t* at = blob.data.data() + point * blob.point_step + field.offset;
-  if (field.datatype == pcl::PCLPointField::FLOAT32) {
-    const auto v = static_cast<float>(value);
-    std::memcpy(at, &v, sizeof v);
-  } else {
-    std::memcpy(at, &value, sizeof value);
-  }
-}
-
 }  // namespace
 
 // denoise (fill = false) or fill-holes (fill = true) on a cloud.
 int runCloudRepair(const std::vector<std::string>& raw, bool fill)
 {
   const char* const kCloudUsage = fill ? kFillUsage : kDenoiseUsage;
-  auto values = commonValueOptions();
-  values.insert({"output", "noise", "bandwidth", "outlier-neighbours", "outlier-std", "residual-outliers"});
-  auto flags = commonFlagOptions();
-  // --no-patches asks for the geometric result, which is what the cloud path gives: accepted.
-  flags.insert({"no-outlier-filter", "absolute", "no-patches"});
-  values.insert("dict");
-  if (fill) {
-    values.insert({"max-hole-diameter", "rim-width"});
-    flags.insert("denoise");
-  }
+  const auto values = cloudValueOptions(fill);
+  const auto flags = cloudFlagOptions(fill);
   const Arguments args(raw, values, flags);
   args.expectPositionals(1, 1, kCloudUsage);
   if (!args.has("output"))
@@ -167,20 +138,20 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
   if (out_format == MeshFormat::PCD && input.from_pcd) {
     // Every field carried: the input's records, with positions (and normals, if it has them) replaced.
     pcl::PCLPointCloud2 out;
-    const pcl::PCLPointField* fx = findField(input.blob, "x");
-    const pcl::PCLPointField* fy = findField(input.blob, "y");
-    const pcl::PCLPointField* fz = findField(input.blob, "z");
-    const pcl::PCLPointField* fnx = input.has_normals ? findField(input.blob, "normal_x") : nullptr;
-    const pcl::PCLPointField* fny = input.has_normals ? findField(input.blob, "normal_y") : nullptr;
-    const pcl::PCLPointField* fnz = input.has_normals ? findField(input.blob, "normal_z") : nullptr;
+    const pcl::PCLPointField* fx = findScalarField(input.blob, "x");
+    const pcl::PCLPointField* fy = findScalarField(input.blob, "y");
+    const pcl::PCLPointField* fz = findScalarField(input.blob, "z");
+    const pcl::PCLPointField* fnx = input.has_normals ? findScalarField(input.blob, "normal_x") : nullptr;
+    const pcl::PCLPointField* fny = input.has_normals ? findScalarField(input.blob, "normal_y") : nullptr;
+    const pcl::PCLPointField* fnz = input.has_normals ? findScalarField(input.blob, "normal_z") : nullptr;
     const auto writePoint = [&](pcl::PCLPointCloud2& blob, std::size_t i, const pcl::PointNormal& p) {
-      writeValue(blob, i, *fx, p.x + input.offset.x());
-      writeValue(blob, i, *fy, p.y + input.offset.y());
-      writeValue(blob, i, *fz, p.z + input.offset.z());
+      writeScalar(blob, i, *fx, p.x + input.offset.x());
+      writeScalar(blob, i, *fy, p.y + input.offset.y());
+      writeScalar(blob, i, *fz, p.z + input.offset.z());
       if (fnx && fny && fnz) {
-        writeValue(blob, i, *fnx, p.normal_x);
-        writeValue(blob, i, *fny, p.normal_y);
-        writeValue(blob, i, *fnz, p.normal_z);
+        writeScalar(blob, i, *fnx, p.normal_x);
+        writeScalar(blob, i, *fny, p.normal_y);
+        writeScalar(blob, i, *fnz, p.normal_z);
       }
     };
     const bool organised = denoised.height > 1;

@@ -32,12 +32,10 @@ int runCloudFillHoles(const std::vector<std::string>& raw);
 int runFillHoles(const std::vector<std::string>& raw)
 {
   {  // A point cloud (.pcd, face-less .ply) takes the cloud path, with its own options.
-    auto values = commonValueOptions();
+    auto values = cloudValueOptions(true);
     values.insert(repairValueOptions().begin(), repairValueOptions().end());
-    values.insert({"output", "max-hole-edges", "max-hole-diameter", "hole-factor", "surface", "noise", "bandwidth",
-                   "outlier-neighbours", "outlier-std", "residual-outliers", "rim-width"});
-    auto flags = commonFlagOptions();
-    flags.insert({"no-patches", "absolute", "denoise", "no-outlier-filter"});  // --absolute: both paths
+    values.insert({"max-hole-edges", "hole-factor", "surface"});
+    const auto flags = cloudFlagOptions(true);
     const Arguments probe(raw, values, flags);
     if (probe.positionals().size() == 1 && isCloudFile(probe.positionals()[0]))
       return runCloudFillHoles(raw);

@@ -85,7 +85,8 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
   poisson.setTrimFactor(0.0);
   poisson.setIterations(0);
   // Poisson only finds the gaps here (the fill is the spline's): cells of up to 4 s suffice, and each
-  // level deeper costs ~4× (boot, 95k points: depth 9 28 s, depth 8 ~6 s).
+  // level deeper costs several times more (boot, 95k points, 2 cores shared with a build: depth 9
+  // 28 s, depth 8 12 s).
   int depth = parameters.poisson_depth;
   if (depth == 0) {
     const double side = 1.1 * (high - low).maxCoeff();

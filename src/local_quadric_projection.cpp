@@ -89,14 +89,14 @@ LocalQuadricFit fitOne(const std::vector<Eigen::Vector3d>& points, const std::ve
   const double dh_du = (c(1) + 2.0 * c(3) * u + c(4) * v) * inv_h;
   const double dh_dv = (c(2) + c(4) * u + 2.0 * c(5) * v) * inv_h;
   fit.residual = z - height;
-  if (!leave_one_out && self >= 0) {  // ∂height/∂(own sample's height): its weight × rowᵀ N⁻¹ row
+  if (!leave_one_out && self >= 0 && parameters.want_leverage) {  // ∂height/∂(own sample's height): weight × rowᵀ N⁻¹ row
     row << 1.0, u, v, u * u, u * v, v * v;
     fit.leverage = weights[static_cast<std::size_t>(self)] * row.dot(solver.solve(row));
   }
   // The same fit without the query's own sample (frame kept): its height there is an honest
   // prediction, so a point the fit bent towards still shows how far it is from its neighbours.
   fit.loo_residual = fit.residual;
-  if (!leave_one_out && self >= 0) {
+  if (!leave_one_out && self >= 0 && parameters.want_loo_residual) {
     const Eigen::Vector3d d = offsets[static_cast<std::size_t>(self)] - mean;
     const double su = d.dot(e1) * inv_h, sv = d.dot(e2) * inv_h, sz = d.dot(n);
     row << 1.0, su, sv, su * su, su * sv, sv * sv;

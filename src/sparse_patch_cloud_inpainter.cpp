@@ -171,6 +171,7 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
   fit_parameters.min_neighbours = parameters.min_neighbours;
   fit_parameters.max_neighbours = parameters.max_neighbours;
   fit_parameters.num_threads = threads;
+  fit_parameters.want_loo_residual = false;  // σ and the risk need the leverage, not this
   const std::size_t stride = std::max<std::size_t>(1, kept_queries.size() / static_cast<std::size_t>(parameters.noise_sample));
   std::vector<std::size_t> sample;
   for (std::size_t j = 0; j < kept_queries.size(); j += stride)
@@ -235,9 +236,11 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
   }
   report.seconds_noise = secondsSince(start);
 
-  // 3. Every kept point onto its own patch.
+  // 3. Every kept point onto its own patch (the leverage was for the risk only).
   start = Clock::now();
   fit_parameters.bandwidth = report.bandwidth;
+  fit_parameters.want_leverage = false;
+  fit_parameters.want_loo_residual = true;  // the residual-outlier test
   std::vector<std::size_t> fit_queries(kept_queries.size());
   for (std::size_t j = 0; j < kept_queries.size(); ++j)
     fit_queries[j] = queries[kept_queries[j]];
@@ -287,7 +290,6 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
 
   // 4. Normal orientation.
   start = Clock::now();
-  report.normals_computed = want_normals;
   if (want_normals) {
     bool any_input_normal = false;
     for (std::size_t q = 0; q < nq && !any_input_normal; ++q)

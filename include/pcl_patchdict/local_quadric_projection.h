@@ -26,6 +26,9 @@ struct LocalQuadricParameters {
   int max_neighbours = 192;      ///< the nearest ones, when more lie within the support
   int min_neighbours = 8;        ///< fewer usable neighbours: no fit (LocalQuadricFit::valid false)
   int num_threads = 0;           ///< 0 = OpenMP's default
+  /// The two extra statistics of a fit (one more 6 × 6 solve each), for callers that use them.
+  bool want_loo_residual = true;
+  bool want_leverage = true;
 };
 
 struct LocalQuadricFit {
