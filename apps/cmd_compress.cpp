@@ -23,7 +23,7 @@ JsonObject partsJson(const PatchCodec::Report& r)
   parts.add("header", r.header_bytes).add("quad_vertices", r.quad_vertex_bytes).add("quad_faces", r.quad_face_bytes);
   parts.add("seed_offsets", r.offset_bytes);
   parts.add("atoms", r.atom_bytes).add("coefficients", r.coefficient_bytes).add("means", r.mean_bytes);
-  parts.add("masks", r.mask_bytes).add("connectivity", r.connectivity_bytes);
+  parts.add("masks", r.mask_bytes).add("connectivity", r.connectivity_bytes).add("coverage_frames", r.coverage_bytes);
   return parts;
 }
 
@@ -44,14 +44,15 @@ int runCompress(const std::vector<std::string>& raw)
 {
   auto value_options = commonValueOptions();
   value_options.insert({"output", "dict", "quad-length", "patch-scale", "overlap", "coefficients", "coefficient-bits",
-                        "position-bits", "subdivision", "smooth-iterations", "location-bits", "samples"});
+                        "position-bits", "subdivision", "smooth-iterations", "location-bits", "samples",
+                        "coverage-tolerance", "coverage-budget"});
   auto flag_options = commonFlagOptions();
   flag_options.insert({"keep-connectivity", "no-eval", "no-projection"});
   const Arguments args(raw, value_options, flag_options);
   const std::string usage =
       "pcl_patchdict compress IN --dict DICT.pdd -o OUT.pdc [--quad-length L] [--coefficients S] "
       "[--coefficient-bits B] [--position-bits B] [--patch-scale F] [--overlap K] [--subdivision N] [--keep-connectivity "
-      "[--location-bits B]] [--no-eval] [--json]";
+      "[--location-bits B]] [--coverage-tolerance T] [--coverage-budget F] [--no-eval] [--json]";
   args.expectPositionals(1, 1, usage);
   if (!args.has("output") || !args.has("dict"))
     throw UsageError("usage: " + usage);
@@ -70,6 +71,9 @@ int runCompress(const std::vector<std::string>& raw)
   parameters.keep_connectivity = args.has("keep-connectivity");
   parameters.location_bits = static_cast<int>(args.getInt("location-bits", parameters.location_bits, 4, 16));
   parameters.project_quads = !args.has("no-projection");
+  parameters.coverage_tolerance =
+      args.getDouble("coverage-tolerance", parameters.coverage_tolerance, 0.0, 10.0);
+  parameters.coverage_budget = args.getDouble("coverage-budget", parameters.coverage_budget, 0.0, 10.0);
   parameters.seed = static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62)));
   const auto samples = static_cast<std::size_t>(args.getInt("samples", 200000, 1000, 100000000));
   const std::string input = args.positionals()[0], output = args.get("output");
@@ -114,23 +118,24 @@ int runCompress(const std::vector<std::string>& raw)
     json.add("keep_connectivity", parameters.keep_connectivity);
     json.add("quad_vertices", report.quad_vertices).add("quad_faces", report.quad_faces);
     json.add("patches", report.patches).add("nonzeros", report.nonzeros).add("masked_patches", report.masked_patches);
+    json.add("coverage_patches", report.coverage_patches).add("coverage_tolerance", parameters.coverage_tolerance);
     json.add("bytes", report.total_bytes).add("parts", partsJson(report));
     json.add("mesh_entities", meshEntities(mesh)).add("patch_entities", report.patchEntities());
     json.add("entity_factor", entity_factor).add("raw_bytes", raw_bytes).add("byte_factor", byte_factor);
     json.add("patch_rmse", report.patch_rmse);
     JsonObject stages;
     stages.add("layout", report.seconds_layout).add("patches", report.seconds_patches);
-    stages.add("coding", report.seconds_coding).add("reconstruct", report.seconds_reconstruct);
+    stages.add("coding", report.seconds_coding).add("coverage", report.seconds_coverage);
     json.add("encode_stages", stages);
     if (evaluate)
       addPsnr(json, distance, mesh);
     json.add("seconds", timer.json());
     std::cout << json.str() << '\n';
   } else if (!args.has("quiet")) {
-    std::printf("%zu bytes (%zu patches, %zu non-zeros, quad mesh %zu/%zu): %.1f x in bytes (12 V + 12 F), "
-                "%.1f x in entities",
-                report.total_bytes, report.patches, report.nonzeros, report.quad_vertices, report.quad_faces,
-                byte_factor, entity_factor);
+    std::printf("%zu bytes (%zu patches of which %zu coverage, %zu non-zeros, quad mesh %zu/%zu): %.1f x in bytes "
+                "(12 V + 12 F), %.1f x in entities",
+                report.total_bytes, report.patches, report.coverage_patches, report.nonzeros, report.quad_vertices,
+                report.quad_faces, byte_factor, entity_factor);
     if (evaluate)
       std::printf(", PSNR %.2f dB", distance.psnr);
     std::printf(" -> %s\n", output.c_str());
@@ -180,6 +185,7 @@ int runDecompress(const std::vector<std::string>& raw)
     JsonObject json;
     json.add("command", "decompress").add("input", input).add("output", output).add("dictionary", args.get("dict"));
     json.add("bytes", report.total_bytes).add("patches", report.patches).add("nonzeros", report.nonzeros);
+    json.add("coverage_patches", report.coverage_patches);
     json.add("vertices", report.output_vertices).add("faces", report.output_faces);
     if (args.has("ref"))
       addPsnr(json, distance, reference);

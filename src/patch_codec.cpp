@@ -13,6 +13,7 @@
 #include <pcl_patchdict/quad_subdivision.h>
 #include <pcl_patchdict/reference_frame.h>
 
+#include "codec_coverage.h"
 #include "pdc_format.h"
 
 #include <algorithm>
@@ -85,6 +86,50 @@ void applySeedOffsets(const detail::PdcContent& c, PatchSet& patches)
   const double scale = gridScale(c.position_bits);
   for (std::size_t q = 0; q < patches.seeds.size(); ++q)
     patches.seeds[q] += patches.rotations[q].row(2).transpose() * (static_cast<double>(c.offsets[q]) / scale);
+}
+
+/** Per patch: the surface height at the grid's centre (mean of the four central bins that saw
+  * the surface), in position-grid units — how far each seed moves along its Z onto the surface. */
+std::vector<std::int64_t> seedOffsets(const PatchSet& sampled, int grid, double position_scale)
+{
+  std::vector<std::int64_t> offsets(sampled.numPatches());
+  const int lo = (grid - 1) / 2, hi = grid / 2;
+  for (std::size_t q = 0; q < offsets.size(); ++q) {
+    double sum = 0.0;
+    int count = 0;
+    for (const int j : {lo, hi})
+      for (const int i : {lo, hi})
+        if (sampled.observed(j * grid + i, static_cast<Eigen::Index>(q))) {
+          sum += sampled.heights(j * grid + i, static_cast<Eigen::Index>(q));
+          ++count;
+        }
+    offsets[q] = count ? std::llround(sum / count * position_scale) : 0;
+  }
+  return offsets;
+}
+
+/** Appends the quantised codes of every patch of `codes` to the content (atoms in increasing
+  * order, zero values dropped; values clamped to the 16 bits the byte planes hold). */
+void appendQuantisedCodes(const PatchCodes& codes, detail::PdcContent& c)
+{
+  for (Eigen::Index q = 0; q < codes.coefficients.cols(); ++q) {
+    std::vector<std::pair<std::uint32_t, std::int32_t>> entries;
+    for (SparseCodes::InnerIterator it(codes.coefficients, q); it; ++it) {
+      const auto value = static_cast<std::int32_t>(
+          std::clamp<long>(std::lround(it.value() / c.coefficient_step), -32767L, 32767L));
+      if (value != 0)
+        entries.emplace_back(static_cast<std::uint32_t>(it.row()), value);
+    }
+    std::sort(entries.begin(), entries.end());
+    c.atoms.emplace_back();
+    c.values.emplace_back();
+    for (const auto& [atom, value] : entries) {
+      c.atoms.back().push_back(atom);
+      c.values.back().push_back(value);
+    }
+    if (c.remove_mean)
+      c.means.push_back(std::llround(codes.means[q] / c.mean_step));
+  }
 }
 
 /** Renumbers the vertices in order of first use by the faces (what the face coding expects) and
@@ -165,12 +210,196 @@ void describeContent(const detail::PdcContent& c, const PatchCodes& codes, Patch
   report.patches = c.atoms.size();
   report.nonzeros = static_cast<std::size_t>(codes.coefficients.nonZeros());
   report.masked_patches = maskedPatches(c.observed);
+  report.coverage_patches = c.coverage.size();
   report.coefficient_step = c.coefficient_step;
+}
+
+/** The unit-cube surface a .pdc content stands for — what the decoder outputs before the
+  * normalisation is undone, and what the encoder checks its coverage against: the quad mesh's
+  * patches reconstructed on the subdivided quad mesh (trimmed where no surface was seen) or on the
+  * kept connectivity, then the coverage patches' pieces. Fills the report's counts and times. */
+TriangleMesh decodeSurface(const detail::PdcContent& c, const PatchDictionary& dictionary, const std::string& what,
+                           PatchCodec::Report& report)
+{
+  auto t = Clock::now();
+  const QuadMesh quads = rebuildQuadMesh(c);
+  PatchSet patches;
+  patches.grid_size = static_cast<int>(c.grid_size);
+  patches.radius = c.radius;
+  pcl::PointCloud<pcl::ReferenceFrame> frames;
+  quadSeeds(quads, c.overlap, patches.seeds, frames, patches.rotations);
+  const std::size_t num_patches = c.atoms.size(), num_quad_patches = num_patches - c.coverage.size();
+  if (patches.seeds.size() != num_quad_patches)
+    throw Error(what + "the quad mesh gives " + std::to_string(patches.seeds.size()) + " patches, the file codes " +
+                std::to_string(num_quad_patches) + " (the file is corrupted)");
+  for (const detail::CoverageFrame& frame : c.coverage) {
+    patches.seeds.emplace_back();
+    patches.rotations.emplace_back();
+    detail::coverageSeedAndRotation(frame, c.position_bits, patches.seeds.back(), patches.rotations.back());
+  }
+  applySeedOffsets(c, patches);
+  report.seconds_layout = since(t);
+
+  t = Clock::now();
+  const PatchCodes codes = dequantisedCodes(c);
+  patches.heights = dictionary.decode(codes);
+  patches.observed = c.observed.size() ? c.observed
+                                       : ObservationMask::Constant(patches.heights.rows(), patches.heights.cols(), true);
+  patches.source.assign(num_patches, 0);
+  report.seconds_coding = since(t);
+
+  t = Clock::now();
+  TriangleMesh target;
+  if (c.keep_connectivity) {
+    const TriangleMesh fan = fanTriangles(quads);
+    const double location_scale = gridScale(c.location_bits);
+    target.vertices.reserve(c.places.size());
+    for (const detail::VertexPlace& place : c.places) {
+      if (place.triangle >= static_cast<std::int32_t>(fan.faces.size()))
+        throw Error(what + "a vertex place refers to a missing quad triangle (the file is corrupted)");
+      const Face& f = fan.faces[static_cast<std::size_t>(place.triangle)];
+      const Eigen::Vector3d a = fan.vertices[static_cast<std::size_t>(f[0])];
+      target.vertices.push_back(a + (fan.vertices[static_cast<std::size_t>(f[1])] - a) * (place.u / location_scale) +
+                                (fan.vertices[static_cast<std::size_t>(f[2])] - a) * (place.v / location_scale));
+    }
+    target.faces = c.faces;
+  } else {
+    // A few hundred bytes can ask for a quad mesh subdivided 256 times per side: refuse outputs no
+    // real encoding needs (2^25 vertices) before allocating them.
+    const double vertices = static_cast<double>(quads.faces.size()) * (c.subdivision + 1.0) * (c.subdivision + 1.0);
+    if (vertices > kMaxDecodedVertices)
+      throw Error(what + "the decoded mesh would have about " + std::to_string(static_cast<long long>(vertices)) +
+                  " vertices, more than this decoder accepts (" + std::to_string(kMaxDecodedVertices) + ")");
+    target = subdivideQuadMesh(quads, static_cast<int>(c.subdivision));
+  }
+  // The quad mesh's surface comes from its own patches; coverage patches only add their pieces.
+  PatchSet quad_patches;
+  const PatchSet* reconstruct_from = &patches;
+  if (!c.coverage.empty()) {
+    const auto n = static_cast<Eigen::Index>(num_quad_patches);
+    quad_patches.grid_size = patches.grid_size;
+    quad_patches.radius = patches.radius;
+    quad_patches.seeds.assign(patches.seeds.begin(), patches.seeds.begin() + n);
+    quad_patches.rotations.assign(patches.rotations.begin(), patches.rotations.begin() + n);
+    quad_patches.heights = patches.heights.leftCols(n);
+    quad_patches.observed = patches.observed.leftCols(n);
+    quad_patches.source.assign(num_quad_patches, 0);
+    reconstruct_from = &quad_patches;
+  }
+  PatchMeshReconstruction reconstruction;
+  reconstruction.setPatches(*reconstruct_from);
+  reconstruction.setTargetMesh(target);
+  PatchMeshReconstruction::Report reconstruction_report;
+  TriangleMesh decoded;
+  reconstruction.compute(decoded, &reconstruction_report);
+  decoded.normals.clear();
+  if (!c.keep_connectivity)
+    trimUnseen(reconstruction_report.off_surface, decoded);
+  const int grid = static_cast<int>(c.grid_size);
+  const std::size_t bins = static_cast<std::size_t>(grid) * static_cast<std::size_t>(grid);
+  for (std::size_t q = num_quad_patches; q < num_patches; ++q) {
+    const auto column = static_cast<Eigen::Index>(q);
+    std::vector<char> kept(bins);
+    for (std::size_t b = 0; b < bins; ++b)
+      kept[b] = patches.observed(static_cast<Eigen::Index>(b), column) ? 1 : 0;
+    const Eigen::VectorXd heights = patches.heights.col(column);
+    detail::appendCoveragePiece(patches.seeds[q], patches.rotations[q], patches.side(), grid, heights, kept, decoded);
+  }
+  if (decoded.faces.empty())
+    throw Error(what + "the decoded surface is empty (the file is corrupted)");
+  report.seconds_reconstruct = since(t);
+  describeContent(c, codes, report);
+  return decoded;
+}
+
+/** Encoder: coverage patches for the parts of the input that the content's decoded surface misses
+  * by more than coverage_tolerance × L (see detail::chooseCoverageFrames); each codes only the
+  * bins the surface lacks (detail::coverageBins), quantised with the quad patches' step. */
+void addCoveragePatches(const TriangleMesh& surface, const PatchDictionary& dictionary,
+                        const PatchCodecParameters& p, HeightMapPatchExtractor& extractor, detail::PdcContent& c)
+{
+  // The receiver's surface, at the default subdivision at most: what is missing does not depend on
+  // how finely the quads are split, and a file asking for 256 splits must not cost the encoder.
+  detail::PdcContent quads_only = c;
+  quads_only.subdivision = std::min<std::uint32_t>(c.subdivision, std::max<std::uint32_t>(1, c.grid_size / 2));
+  PatchCodec::Report scratch;
+  const TriangleMesh decoded = decodeSurface(quads_only, dictionary, "", scratch);
+  const double tolerance = p.coverage_tolerance * p.quad_length;
+  const auto max_patches = static_cast<std::size_t>(p.coverage_budget * static_cast<double>(c.atoms.size()));
+  const std::vector<detail::CoverageFrame> frames =
+      detail::chooseCoverageFrames(surface, decoded, c.radius, tolerance, c.position_bits, max_patches);
+  if (frames.empty())
+    return;
+  const int grid = static_cast<int>(c.grid_size);
+  const std::size_t bins = static_cast<std::size_t>(grid) * static_cast<std::size_t>(grid);
+  std::vector<Eigen::Vector3d> seeds(frames.size());
+  std::vector<Eigen::Matrix3d> rotations(frames.size());
+  pcl::PointCloud<pcl::ReferenceFrame> reference_frames;
+  for (std::size_t q = 0; q < frames.size(); ++q) {
+    detail::coverageSeedAndRotation(frames[q], c.position_bits, seeds[q], rotations[q]);
+    reference_frames.push_back(toReferenceFrame(rotations[q]));
+  }
+  PatchSet sampled;
+  extractor.setSeeds(seeds, reference_frames);
+  extractor.compute(sampled);
+  const double position_scale = gridScale(c.position_bits);
+  const std::vector<std::int64_t> offsets = seedOffsets(sampled, grid, position_scale);
+  for (std::size_t q = 0; q < frames.size(); ++q)
+    seeds[q] += rotations[q].row(2).transpose() * (static_cast<double>(offsets[q]) / position_scale);
+  extractor.setSeeds(seeds, reference_frames);
+  extractor.compute(sampled);
+
+  const PointToMeshDistance to_decoded(decoded);
+  std::vector<std::size_t> useful;
+  std::vector<std::vector<char>> kept_bins;
+  for (std::size_t q = 0; q < frames.size(); ++q) {
+    const auto column = static_cast<Eigen::Index>(q);
+    const Eigen::VectorXd heights = sampled.heights.col(column);
+    std::vector<char> observed(bins);
+    for (std::size_t b = 0; b < bins; ++b)
+      observed[b] = sampled.observed(static_cast<Eigen::Index>(b), column) ? 1 : 0;
+    const std::vector<double> distances =
+        to_decoded.distances(detail::binPoints(seeds[q], rotations[q], sampled.side(), grid, heights));
+    std::vector<char> kept = detail::coverageBins(observed, distances, tolerance, grid);
+    if (std::count(kept.begin(), kept.end(), 1) >= 4) {  // at least one cell of surface
+      useful.push_back(q);
+      kept_bins.push_back(std::move(kept));
+    }
+  }
+  if (useful.empty())
+    return;
+  const auto count = static_cast<Eigen::Index>(useful.size());
+  Eigen::MatrixXd heights(static_cast<Eigen::Index>(bins), count);
+  ObservationMask mask(static_cast<Eigen::Index>(bins), count);
+  for (Eigen::Index k = 0; k < count; ++k) {
+    heights.col(k) = sampled.heights.col(static_cast<Eigen::Index>(useful[static_cast<std::size_t>(k)]));
+    for (std::size_t b = 0; b < bins; ++b)
+      mask(static_cast<Eigen::Index>(b), k) = kept_bins[static_cast<std::size_t>(k)][b] != 0;
+  }
+  const auto quad_patches = static_cast<Eigen::Index>(c.atoms.size());
+  // A piece of a few bins needs fewer atoms than a whole patch (and more atoms than a quarter of
+  // its bins would only fit their noise): the codes' budget follows the bins kept.
+  for (Eigen::Index k = 0; k < count; ++k) {
+    const auto kept = static_cast<int>(mask.col(k).count());
+    const int atoms = std::clamp(kept / 4, 1, p.coefficients);
+    appendQuantisedCodes(dictionary.encodeMasked(heights.col(k), mask.col(k), {atoms, 0.0}), c);
+  }
+  if (c.observed.size() == 0)
+    c.observed = ObservationMask::Constant(static_cast<Eigen::Index>(bins), quad_patches, true);
+  c.observed.conservativeResize(Eigen::NoChange, quad_patches + count);
+  c.observed.rightCols(count) = mask;
+  for (const std::size_t q : useful) {
+    c.offsets.push_back(offsets[q]);
+    c.coverage.push_back(frames[q]);
+  }
 }
 
 }  // namespace
 
-std::size_t PatchCodec::Report::patchEntities() const { return nonzeros + quad_vertices + 4 * quad_faces; }
+std::size_t PatchCodec::Report::patchEntities() const
+{
+  return nonzeros + quad_vertices + 4 * quad_faces + 2 * coverage_patches;
+}
 
 std::size_t meshEntities(const TriangleMesh& mesh) { return 3 * mesh.faces.size() + mesh.vertices.size(); }
 
@@ -202,6 +431,10 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
     throw Error("codec: subdivision must be in [0, 256] (0: grid size / 2)");
   if (p.keep_connectivity && (p.location_bits < 4 || p.location_bits > 16))
     throw Error("codec: location bits must be in [4, 16]");
+  if (!(p.coverage_tolerance >= 0.0 && p.coverage_tolerance <= 10.0))
+    throw Error("codec: the coverage tolerance must be in [0, 10] (quad lengths; 0: no coverage patches)");
+  if (!(p.coverage_budget >= 0.0 && p.coverage_budget <= 10.0))
+    throw Error("codec: the coverage budget must be in [0, 10] (coverage patches per quad patch)");
   if (mesh.faces.empty())
     throw Error("codec: the input has no faces (compression works on meshes)");
   Report local;
@@ -284,19 +517,7 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
   // grid's centre (one small integer per patch), then the patches are sampled there.
   extractor.setSeeds(patches.seeds, frames);
   extractor.compute(sampled);
-  c.offsets.resize(patches.seeds.size());
-  for (std::size_t q = 0; q < patches.seeds.size(); ++q) {
-    const int lo = (grid - 1) / 2, hi = grid / 2;
-    double sum = 0.0;
-    int count = 0;
-    for (const int j : {lo, hi})
-      for (const int i : {lo, hi})
-        if (sampled.observed(j * grid + i, static_cast<Eigen::Index>(q))) {
-          sum += sampled.heights(j * grid + i, static_cast<Eigen::Index>(q));
-          ++count;
-        }
-    c.offsets[q] = count ? std::llround(sum / count * position_scale) : 0;
-  }
+  c.offsets = seedOffsets(sampled, grid, position_scale);
   applySeedOffsets(c, patches);
   extractor.setSeeds(patches.seeds, frames);
   extractor.compute(sampled);
@@ -321,26 +542,16 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
   const double levels = std::ldexp(1.0, p.coefficient_bits - 1) - 1.0;
   c.coefficient_step = range > 0 ? std::max(range / levels, largest / 32767.0) : 1.0;
   c.mean_step = c.coefficient_step / grid;  // a mean offset over N² bins weighs N × its value
-  const std::size_t num_patches = sampled.numPatches();
-  c.atoms.resize(num_patches);
-  c.values.resize(num_patches);
-  for (std::size_t q = 0; q < num_patches; ++q) {
-    std::vector<std::pair<std::uint32_t, std::int32_t>> entries;
-    for (SparseCodes::InnerIterator it(codes.coefficients, static_cast<Eigen::Index>(q)); it; ++it) {
-      const auto value = static_cast<std::int32_t>(std::lround(it.value() / c.coefficient_step));
-      if (value != 0)
-        entries.emplace_back(static_cast<std::uint32_t>(it.row()), value);
-    }
-    std::sort(entries.begin(), entries.end());
-    for (const auto& [atom, value] : entries) {
-      c.atoms[q].push_back(atom);
-      c.values[q].push_back(value);
-    }
-    if (c.remove_mean)
-      c.means.push_back(std::llround(codes.means[static_cast<Eigen::Index>(q)] / c.mean_step));
-  }
+  appendQuantisedCodes(codes, c);
   if (!sampled.observed.all())
     c.observed = sampled.observed;
+  local.seconds_coding = since(t);
+  if (!p.keep_connectivity && p.coverage_tolerance > 0.0) {
+    t = Clock::now();
+    addCoveragePatches(surface, *dictionary_, p, extractor, c);
+    local.seconds_coverage = since(t);
+  }
+  t = Clock::now();
 
   if (p.keep_connectivity) {
     const TriangleMesh fan = fanTriangles(quads);
@@ -373,11 +584,13 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
 
   detail::PdcSizes sizes;
   std::string bytes = detail::writePdc(c, &sizes);
-  local.seconds_coding = since(t);
+  local.seconds_coding += since(t);
   if (report) {
     // The error the receiver will see in the patches: quantised codes against the sampled heights.
     const PatchCodes quantised = dequantisedCodes(c);
-    local.patch_rmse = observedRMSE(dictionary_->decode(quantised), sampled.heights, sampled.observed);
+    const auto quad_patches = static_cast<Eigen::Index>(sampled.numPatches());
+    local.patch_rmse = observedRMSE(dictionary_->decode(quantised).leftCols(quad_patches), sampled.heights,
+                                    sampled.observed);
     local.header_bytes = sizes.header + 8;  // + checksum
     local.quad_vertex_bytes = sizes.quad_vertices;
     local.quad_face_bytes = sizes.quad_faces;
@@ -387,6 +600,7 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
     local.mean_bytes = sizes.means;
     local.mask_bytes = sizes.masks;
     local.connectivity_bytes = sizes.connectivity;
+    local.coverage_bytes = sizes.coverage;
     local.total_bytes = sizes.total;
     describeContent(c, quantised, local);
     *report = local;
@@ -397,7 +611,6 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
 void PatchCodec::decode(const std::string& bytes, TriangleMesh& out, Report* report, const std::string& what) const
 {
   requireDictionary();
-  auto t = Clock::now();
   const detail::PdcContent c = detail::readPdc(bytes, what);
   if (c.fingerprint != dictionary_->fingerprint() || static_cast<int>(c.grid_size) != dictionary_->gridSize() ||
       static_cast<Eigen::Index>(c.num_atoms) != dictionary_->atoms().cols()) {
@@ -408,74 +621,19 @@ void PatchCodec::decode(const std::string& bytes, TriangleMesh& out, Report* rep
             << dictionary_->gridSize() << ", fingerprint " << std::hex << dictionary_->fingerprint() << ")";
     throw Error(message.str());
   }
-  const QuadMesh quads = rebuildQuadMesh(c);
-  PatchSet patches;
-  patches.grid_size = static_cast<int>(c.grid_size);
-  patches.radius = c.radius;
-  pcl::PointCloud<pcl::ReferenceFrame> frames;
-  quadSeeds(quads, c.overlap, patches.seeds, frames, patches.rotations);
-  const std::size_t num_patches = c.atoms.size();
-  if (patches.seeds.size() != num_patches)
-    throw Error(what + "the quad mesh gives " + std::to_string(patches.seeds.size()) + " patches, the file codes " +
-                std::to_string(num_patches) + " (the file is corrupted)");
-  applySeedOffsets(c, patches);
   Report local;
-  local.seconds_layout = since(t);
-
-  t = Clock::now();
-  const PatchCodes codes = dequantisedCodes(c);
-  patches.heights = dictionary_->decode(codes);
-  patches.observed = c.observed.size() ? c.observed
-                                       : ObservationMask::Constant(patches.heights.rows(), patches.heights.cols(), true);
-  patches.source.assign(num_patches, 0);
-  local.seconds_coding = since(t);
-
-  t = Clock::now();
-  TriangleMesh target;
-  if (c.keep_connectivity) {
-    const TriangleMesh fan = fanTriangles(quads);
-    const double location_scale = gridScale(c.location_bits);
-    target.vertices.reserve(c.places.size());
-    for (const detail::VertexPlace& place : c.places) {
-      if (place.triangle >= static_cast<std::int32_t>(fan.faces.size()))
-        throw Error(what + "a vertex place refers to a missing quad triangle (the file is corrupted)");
-      const Face& f = fan.faces[static_cast<std::size_t>(place.triangle)];
-      const Eigen::Vector3d a = fan.vertices[static_cast<std::size_t>(f[0])];
-      target.vertices.push_back(a + (fan.vertices[static_cast<std::size_t>(f[1])] - a) * (place.u / location_scale) +
-                                (fan.vertices[static_cast<std::size_t>(f[2])] - a) * (place.v / location_scale));
-    }
-    target.faces = c.faces;
-  } else {
-    // A few hundred bytes can ask for a quad mesh subdivided 256 times per side: refuse outputs no
-    // real encoding needs (2^25 vertices) before allocating them.
-    const double vertices = static_cast<double>(quads.faces.size()) * (c.subdivision + 1.0) * (c.subdivision + 1.0);
-    if (vertices > kMaxDecodedVertices)
-      throw Error(what + "the decoded mesh would have about " + std::to_string(static_cast<long long>(vertices)) +
-                  " vertices, more than this decoder accepts (" + std::to_string(kMaxDecodedVertices) + ")");
-    target = subdivideQuadMesh(quads, static_cast<int>(c.subdivision));
-  }
-  PatchMeshReconstruction reconstruction;
-  reconstruction.setPatches(patches);
-  reconstruction.setTargetMesh(target);
-  PatchMeshReconstruction::Report reconstruction_report;
-  TriangleMesh decoded;
-  reconstruction.compute(decoded, &reconstruction_report);
-  decoded.normals.clear();
-  if (!c.keep_connectivity)
-    trimUnseen(reconstruction_report.off_surface, decoded);
+  TriangleMesh decoded = decodeSurface(c, *dictionary_, what, local);
+  const auto t = Clock::now();
   c.normalization.invert(decoded);
   // Every stored number was range-checked, but extreme yet finite values (a scale of 1e-300, a huge
   // coefficient step) can still overflow on the way: a decoded surface must be finite.
   for (const auto& v : decoded.vertices)
     if (!v.allFinite())
       throw Error(what + "the decoded surface is not finite (the file is corrupted)");
-  if (decoded.faces.empty())
-    throw Error(what + "the decoded surface is empty (the file is corrupted)");
   out = std::move(decoded);
-  local.seconds_reconstruct = since(t);
+  local.seconds_reconstruct += since(t);
   if (report) {
     local.total_bytes = bytes.size();
-    describeContent(c, codes, local);
     local.output_vertices = out.vertices.size();
     local.output_faces = out.faces.size();
     *report = local;

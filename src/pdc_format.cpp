@@ -1,4 +1,4 @@
-// .pdc container: fixed header, eight zlib-packed sections, FNV-1a 64 checksum.
+// .pdc container: fixed header, nine zlib-packed sections, FNV-1a 64 checksum.
 #include "pdc_format.h"
 
 #include "binary_format.h"
@@ -18,7 +18,8 @@ namespace detail {
 namespace {
 
 constexpr char kMagic[4] = {'P', 'D', 'C', 'v'};
-constexpr std::uint32_t kVersion = 1;
+// Version 2 added the coverage section (patches with stored frames).
+constexpr std::uint32_t kVersion = 2;
 constexpr std::uint32_t kFlagRemoveMean = 1, kFlagKeepConnectivity = 2;
 
 std::size_t bitmapBytes(std::size_t bits) { return (bits + 7) / 8; }
@@ -168,6 +169,22 @@ std::string writePdc(const PdcContent& c, PdcSizes* sizes)
     connectivity.putVarint(place.v);
   }
   putSection(out, connectivity.bytes(), &local.connectivity);
+
+  // Coverage frames: count, then per frame the position's deltas from the previous frame's and the
+  // normal and angle codes.
+  ByteWriter coverage;
+  coverage.putVarint(c.coverage.size());
+  std::array<std::int64_t, 3> before{0, 0, 0};
+  for (const CoverageFrame& f : c.coverage) {
+    for (int k = 0; k < 3; ++k) {
+      coverage.putSigned(static_cast<std::int64_t>(f.position[static_cast<std::size_t>(k)]) - before[static_cast<std::size_t>(k)]);
+      before[static_cast<std::size_t>(k)] = f.position[static_cast<std::size_t>(k)];
+    }
+    coverage.putVarint(f.normal_u);
+    coverage.putVarint(f.normal_v);
+    coverage.putVarint(f.angle);
+  }
+  putSection(out, coverage.bytes(), &local.coverage);
 
   const std::uint64_t checksum = fnv1a64(out.bytes().data(), out.bytes().size());
   out.putU64(checksum);
@@ -384,6 +401,35 @@ PdcContent readPdc(const std::string& bytes, const std::string& what)
       place.v = static_cast<std::uint32_t>(v);
     }
     expectEnd(section, "connectivity");
+  }
+  {
+    const std::string raw = getSection(in);
+    ByteReader section(raw.data(), raw.size(), what);
+    const std::uint64_t count = section.getVarint();
+    if (count >= patches || count > raw.size())
+      throw Error(what + "implausible coverage patch count (the file is corrupted)");
+    if (count && c.keep_connectivity)
+      throw Error(what + "coverage patches in a file with kept connectivity (the file is corrupted)");
+    const std::int64_t limit = (std::int64_t(1) << c.position_bits) - 1;
+    const std::uint64_t normal_limit = (std::uint64_t(1) << kCoverageNormalBits) - 1,
+                        angle_limit = (std::uint64_t(1) << kCoverageAngleBits) - 1;
+    std::array<std::int64_t, 3> before{0, 0, 0};
+    c.coverage.resize(static_cast<std::size_t>(count));
+    for (CoverageFrame& f : c.coverage) {
+      for (int k = 0; k < 3; ++k) {
+        before[static_cast<std::size_t>(k)] += section.getSigned();
+        if (before[static_cast<std::size_t>(k)] < 0 || before[static_cast<std::size_t>(k)] > limit)
+          throw Error(what + "coverage seed outside the quantisation grid (the file is corrupted)");
+        f.position[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(before[static_cast<std::size_t>(k)]);
+      }
+      const std::uint64_t u = section.getVarint(), v = section.getVarint(), a = section.getVarint();
+      if (u > normal_limit || v > normal_limit || a > angle_limit)
+        throw Error(what + "coverage frame out of range (the file is corrupted)");
+      f.normal_u = static_cast<std::uint32_t>(u);
+      f.normal_v = static_cast<std::uint32_t>(v);
+      f.angle = static_cast<std::uint32_t>(a);
+    }
+    expectEnd(section, "coverage");
   }
   if (!in.atEnd())
     throw Error(what + "unexpected bytes after the last section (the file is corrupted)");

@@ -1,6 +1,8 @@
 // The .pdc container: what PatchCodec stores, written and parsed section by section (private).
 #pragma once
 
+#include "codec_coverage.h"
+
 #include <pcl_patchdict/dictionary_learning.h>
 #include <pcl_patchdict/normalization.h>
 #include <pcl_patchdict/triangle_mesh.h>
@@ -42,12 +44,15 @@ struct PdcContent {
   ObservationMask observed;         ///< N² × P; every bin observed when empty
   std::vector<Face> faces;          ///< keep_connectivity only
   std::vector<VertexPlace> places;  ///< keep_connectivity only
+  /** Frames of the coverage patches, which follow the quad mesh's patches in every per-patch
+    * list above (codes, means, offsets, masks): patches = quad seeds + coverage.size(). */
+  std::vector<CoverageFrame> coverage;
 };
 
 /** Sizes of the parts of a written file. */
 struct PdcSizes {
   std::size_t header = 0, quad_vertices = 0, quad_faces = 0, offsets = 0, atoms = 0, coefficients = 0, means = 0, masks = 0,
-              connectivity = 0, total = 0;
+              connectivity = 0, coverage = 0, total = 0;
 };
 
 std::string writePdc(const PdcContent& content, PdcSizes* sizes = nullptr);

@@ -17,6 +17,7 @@
 #include <omp.h>
 
 #include <cmath>
+#include <cstdio>
 
 using namespace pcl::patchdict;
 using test_support::q;
@@ -116,7 +117,7 @@ TEST(PatchCodec, BunnyRoundTripIsSmallAccurateAndDeterministic)
   EXPECT_LE(report.nonzeros, 12u * report.patches);
   EXPECT_EQ(report.header_bytes + report.quad_vertex_bytes + report.quad_face_bytes + report.offset_bytes +
                 report.atom_bytes + report.coefficient_bytes + report.mean_bytes + report.mask_bytes +
-                report.connectivity_bytes,
+                report.connectivity_bytes + report.coverage_bytes,
             report.total_bytes);
   // Float32 positions and int32 indices would take 12 V + 12 F bytes: at least 80 times more (102×).
   const double raw_bytes = 12.0 * static_cast<double>(bunny.vertices.size() + bunny.faces.size());
@@ -151,12 +152,65 @@ TEST(PatchCodec, BunnyRoundTripIsSmallAccurateAndDeterministic)
   EXPECT_TRUE(from_file.vertices == decoded.vertices);
 }
 
+TEST(PatchCodec, CoveragePatchesReachThePartsTheQuadsMiss)
+{
+  // At L = 0.1 the bunny's quad mesh does not reach all of its ears: without coverage patches the
+  // decoded surface misses them (the reference-to-output distance is large there).
+  const TriangleMesh bunny = loadBunny();
+  PatchCodec codec;
+  codec.setDictionary(bunnyDictionary(bunny));
+  PatchCodecParameters parameters = bunnyParameters();
+  parameters.quad_length = 0.1;
+  parameters.coverage_tolerance = 0.0;
+  codec.setParameters(parameters);
+  PatchCodec::Report without_report, with_report;
+  const std::string without = codec.encode(bunny, &without_report);
+  EXPECT_EQ(without_report.coverage_patches, 0u);
+  parameters.coverage_tolerance = PatchCodecParameters().coverage_tolerance;
+  codec.setParameters(parameters);
+  const std::string with = codec.encode(bunny, &with_report);
+  EXPECT_GT(with_report.coverage_patches, 0u);
+  EXPECT_GT(with_report.coverage_bytes, 0u);
+  EXPECT_EQ(with_report.patches, without_report.patches + with_report.coverage_patches);
+  EXPECT_EQ(with_report.patchEntities(), with_report.nonzeros + with_report.quad_vertices +
+                                             4 * with_report.quad_faces + 2 * with_report.coverage_patches);
+  EXPECT_LT(with.size(), without.size() * 13 / 10);
+
+  TriangleMesh decoded_without, decoded_with;
+  codec.decode(without, decoded_without);
+  PatchCodec::Report decoded_report;
+  codec.decode(with, decoded_with, &decoded_report);
+  EXPECT_EQ(decoded_report.coverage_patches, with_report.coverage_patches);
+  // The quad mesh's surface is the same; the coverage pieces come after it.
+  ASSERT_GT(decoded_with.vertices.size(), decoded_without.vertices.size());
+  for (std::size_t v = 0; v < decoded_without.vertices.size(); ++v)
+    ASSERT_TRUE(decoded_with.vertices[v] == decoded_without.vertices[v]) << v;
+  const SurfaceDistance d0 = surfaceDistance(bunny, decoded_without, 50000, 1);
+  const SurfaceDistance d1 = surfaceDistance(bunny, decoded_with, 50000, 1);
+  RecordProperty("psnr_without", std::to_string(d0.psnr));
+  RecordProperty("psnr_with", std::to_string(d1.psnr));
+  std::printf("coverage: %zu patches, %zu -> %zu bytes, PSNR %.2f -> %.2f dB, max ref->out %.4f -> %.4f\n",
+              with_report.coverage_patches, without.size(), with.size(), d0.psnr, d1.psnr, d0.max_ref_to_out,
+              d1.max_ref_to_out);
+  EXPECT_GT(d1.psnr, d0.psnr + 2.0);
+  EXPECT_LT(d1.max_ref_to_out, 0.5 * d0.max_ref_to_out);
+  EXPECT_LT(d1.rms_out_to_ref, 1.2 * d0.rms_out_to_ref);  // the pieces lie on the surface
+
+  // No coverage with kept connectivity (the input's vertices have places on the quad mesh only).
+  parameters.keep_connectivity = true;
+  codec.setParameters(parameters);
+  PatchCodec::Report kept_report;
+  codec.encode(bunny, &kept_report);
+  EXPECT_EQ(kept_report.coverage_patches, 0u);
+}
+
 TEST(PatchCodec, KeptConnectivityIsTheInputsAndCostsBytes)
 {
   const TriangleMesh bunny = loadBunny();
   PatchCodec codec;
   codec.setDictionary(bunnyDictionary(bunny));
   PatchCodecParameters parameters = bunnyParameters();
+  parameters.coverage_tolerance = 0.0;  // kept connectivity has none: compare like with like
   codec.setParameters(parameters);
   PatchCodec::Report self_contained;
   const std::size_t plain_size = codec.encode(bunny, &self_contained).size();
@@ -250,6 +304,14 @@ TEST(PatchCodec, RejectsBadParametersAndInputs)
   parameters.patch_scale = 5.0;
   codec.setParameters(parameters);
   expectError(bunny, "patch scale");
+  parameters = bunnyParameters();
+  parameters.coverage_tolerance = -0.1;
+  codec.setParameters(parameters);
+  expectError(bunny, "coverage tolerance");
+  parameters = bunnyParameters();
+  parameters.coverage_budget = std::nan("");
+  codec.setParameters(parameters);
+  expectError(bunny, "coverage budget");
   parameters = bunnyParameters();
   parameters.quad_length = 0.9;  // coarser than the shape
   codec.setParameters(parameters);

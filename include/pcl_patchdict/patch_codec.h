@@ -33,6 +33,12 @@ struct PatchCodecParameters {
     * the input's connectivity instead of the subdivided quad mesh (costs bytes, see Report). */
   bool keep_connectivity = false;
   int location_bits = 10;  ///< barycentric precision of a vertex's place (keep_connectivity only)
+  /** Coverage patches: where the decoded quad-mesh surface misses the input by more than this
+    * many L (thin parts narrower than the quads — ears, fingers — have no quads at a large L),
+    * patches with stored frames cover it; 0 turns them off. Not with keep_connectivity. */
+  double coverage_tolerance = 0.1;
+  /** At most this many coverage patches per quad-mesh patch. */
+  double coverage_budget = 1.0;
   std::uint64_t seed = 1;
   int num_threads = 0;
 };
@@ -43,17 +49,22 @@ struct PatchCodecParameters {
   * mesh at L (QuadRemesher); quad vertices projected onto the input and quantised; frames and seeds
   * from the *quantised* quad mesh (QuadFrameEstimation, vertex normals from the faces), exactly as
   * the decoder will derive them, so frames are never stored; exact height maps of the input at
-  * those seeds; masked OMP with `coefficients` atoms; coefficients uniformly quantised.
+  * those seeds; masked OMP with `coefficients` atoms; coefficients uniformly quantised. Then the
+  * encoder decodes what it wrote: parts of the input the result misses (no quads reach them)
+  * get coverage patches, whose frames are stored (seed on the position grid, octahedral normal,
+  * tangent angle: ~6 bytes) and whose codes cover only the bins the surface lacks.
   *
   * File: magic "PDCv", version, the dictionary's fingerprint, grid size and atom count, the
   * parameters, the normalisation, then zlib-packed sections — quad vertices (deltas), quad faces
   * (valence + back-references), per-patch seed offsets along Z, per-patch atom sets (bitmaps), coefficients (zigzag byte planes),
   * patch means (when the dictionary removes them), observation masks (patches whose grid left the
-  * surface), and optionally the input's faces and vertex places — and an FNV-1a 64 checksum.
+  * surface), optionally the input's faces and vertex places, the coverage frames — and an FNV-1a
+  * 64 checksum.
   *
   * Decoding: the quad mesh is rebuilt, frames re-derived, patches decoded (D·codes), and the
   * surface reconstructed (PatchMeshReconstruction, bilinear rule) on the quad mesh subdivided
-  * `subdivision` times per side — or on the input's connectivity when it was kept. */
+  * `subdivision` times per side — or on the input's connectivity when it was kept; each coverage
+  * patch adds its kept bins as a small grid of triangles (a separate piece of the output). */
 class PatchCodec {
 public:
   using Ptr = std::shared_ptr<PatchCodec>;
@@ -66,12 +77,16 @@ public:
                 total_bytes = 0;
     std::size_t quad_vertices = 0, quad_faces = 0, patches = 0, nonzeros = 0;
     std::size_t masked_patches = 0;  ///< patches with bins off the surface (their masks are stored)
+    std::size_t coverage_patches = 0;  ///< of `patches`: those with stored frames (see coverage_tolerance)
+    std::size_t coverage_bytes = 0;    ///< their frames' section
     std::size_t output_vertices = 0, output_faces = 0;
     double coefficient_step = 0.0;
     double patch_rmse = 0.0;  ///< encoder: RMS height error of the quantised codes, observed bins (unit cube)
-    double seconds_layout = 0.0, seconds_patches = 0.0, seconds_coding = 0.0, seconds_reconstruct = 0.0;
+    double seconds_layout = 0.0, seconds_patches = 0.0, seconds_coding = 0.0, seconds_reconstruct = 0.0,
+           seconds_coverage = 0.0;  ///< encoder: decoding its own output and choosing coverage patches
     /** The paper's count (Table 1): non-zero coefficients plus the quad mesh's entities
-      * (one per vertex, one per face corner). */
+      * (one per vertex, one per face corner), plus two per coverage patch (its seed, counted
+      * like a vertex, and its orientation). */
     std::size_t patchEntities() const;
   };
 
