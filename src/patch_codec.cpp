@@ -37,6 +37,17 @@ using detail::renumberByFirstUse;
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+/** Masked OMP of one patch: at most `atoms` atoms, fewer once the observed bins' RMS error is
+  * below target_error × L (0: always `atoms`). */
+SparseCodingParameters codingParameters(const PatchCodecParameters& p, int atoms)
+{
+  SparseCodingParameters coding;
+  coding.max_atoms = atoms;
+  const double target = p.target_error * p.quad_length;
+  coding.max_squared_error_per_entry = target * target;
+  return coding;
+}
+
 /** Per patch: the surface height at the grid's centre (mean of the four central bins that saw
   * the surface), in position-grid units — how far each seed moves along its Z onto the surface. */
 std::vector<std::int64_t> seedOffsets(const PatchSet& sampled, int grid, double position_scale)
@@ -151,7 +162,7 @@ void addCoveragePatches(const TriangleMesh& surface, const PatchDictionary& dict
   for (Eigen::Index k = 0; k < count; ++k) {
     const auto kept = static_cast<int>(mask.col(k).count());
     const int atoms = std::clamp(kept / 4, 1, p.coefficients);
-    appendQuantisedCodes(dictionary.encodeMasked(heights.col(k), mask.col(k), {atoms, 0.0}), c);
+    appendQuantisedCodes(dictionary.encodeMasked(heights.col(k), mask.col(k), codingParameters(p, atoms)), c);
   }
   if (c.observed.size() == 0)
     c.observed = ObservationMask::Constant(static_cast<Eigen::Index>(bins), quad_patches, true);
@@ -200,6 +211,8 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
     throw Error("codec: subdivision must be in [0, 256] (0: grid size / 2)");
   if (p.keep_connectivity && (p.location_bits < 4 || p.location_bits > 16))
     throw Error("codec: location bits must be in [4, 16]");
+  if (!(p.target_error >= 0.0 && p.target_error <= 1.0))
+    throw Error("codec: the target error must be in [0, 1] (quad lengths; 0: always the full coefficients)");
   if (!(p.coverage_tolerance >= 0.0 && p.coverage_tolerance <= 10.0))
     throw Error("codec: the coverage tolerance must be in [0, 10] (quad lengths; 0: no coverage patches)");
   if (!(p.coverage_budget >= 0.0 && p.coverage_budget <= 10.0))
@@ -293,7 +306,7 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
   local.seconds_patches = since(t);
 
   t = Clock::now();
-  const PatchCodes codes = dictionary_->encodeMasked(sampled.heights, sampled.observed, {p.coefficients, 0.0});
+  const PatchCodes codes = dictionary_->encodeMasked(sampled.heights, sampled.observed, codingParameters(p, p.coefficients));
   // The quantiser's range is the 99th percentile of |coefficient|, not the largest: one patch over
   // a sharp crease must not coarsen every other patch's step. Larger values still fit (the byte
   // planes hold 16 bits), at a step no finer than the largest value allows.

@@ -204,6 +204,36 @@ TEST(PatchCodec, CoveragePatchesReachThePartsTheQuadsMiss)
   EXPECT_EQ(kept_report.coverage_patches, 0u);
 }
 
+TEST(PatchCodec, AnErrorTargetSpendsFewerCoefficientsForLittleError)
+{
+  // A patch stops taking atoms once its observed bins are coded to target_error × L: fewer
+  // non-zeros and bytes, at a PSNR near the full codes'.
+  const TriangleMesh bunny = loadBunny();
+  PatchCodec codec;
+  codec.setDictionary(bunnyDictionary(bunny));
+  PatchCodecParameters parameters = bunnyParameters();
+  codec.setParameters(parameters);
+  PatchCodec::Report full_report, targeted_report;
+  const std::string full = codec.encode(bunny, &full_report);
+  parameters.target_error = 0.01;
+  codec.setParameters(parameters);
+  const std::string targeted = codec.encode(bunny, &targeted_report);
+  TriangleMesh full_mesh, targeted_mesh;
+  codec.decode(full, full_mesh);
+  codec.decode(targeted, targeted_mesh);
+  const SurfaceDistance d_full = surfaceDistance(bunny, full_mesh, 50000, 1);
+  const SurfaceDistance d_targeted = surfaceDistance(bunny, targeted_mesh, 50000, 1);
+  std::printf("error target 0.01 L: %zu -> %zu non-zeros, %zu -> %zu bytes, PSNR %.2f -> %.2f dB\n",
+              full_report.nonzeros, targeted_report.nonzeros, full.size(), targeted.size(), d_full.psnr,
+              d_targeted.psnr);
+  EXPECT_LT(targeted_report.nonzeros, full_report.nonzeros * 85 / 100);  // measured 80 %
+  EXPECT_LT(targeted.size(), full.size());
+  EXPECT_GT(d_targeted.psnr, d_full.psnr - 1.0);  // measured −0.25 dB
+  // The patches' own error grows, but stays near the target (RMS over the observed bins).
+  EXPECT_GT(targeted_report.patch_rmse, full_report.patch_rmse);
+  EXPECT_LT(targeted_report.patch_rmse, 2.0 * 0.01 * parameters.quad_length);
+}
+
 TEST(PatchCodec, KeptConnectivityIsTheInputsAndCostsBytes)
 {
   const TriangleMesh bunny = loadBunny();
@@ -304,6 +334,10 @@ TEST(PatchCodec, RejectsBadParametersAndInputs)
   parameters.patch_scale = 5.0;
   codec.setParameters(parameters);
   expectError(bunny, "patch scale");
+  parameters = bunnyParameters();
+  parameters.target_error = 2.0;
+  codec.setParameters(parameters);
+  expectError(bunny, "target error");
   parameters = bunnyParameters();
   parameters.coverage_tolerance = -0.1;
   codec.setParameters(parameters);
