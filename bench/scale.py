@@ -146,7 +146,7 @@ def main():
                           f"solve {s.get('solve', 0):.2f}, load+write {s.get('load', 0) + s.get('write', 0):.2f}")
             else:
                 detail = (f"layout {s.get('layout', 0):.2f}, patches {s.get('patches', 0):.2f}, coding "
-                          f"{s.get('coding', 0):.2f}, reconstruct {s.get('reconstruct', 0):.2f}, "
+                          f"{s.get('coding', 0):.2f}, coverage {s.get('coverage', 0):.2f}, "
                           f"load {s.get('load', 0):.2f}")
             f.write(f"| {row['pipeline']} | {row['faces']:,} | {row['threads']} | {row['wall']:.2f} | "
                     f"{row['peak_mb']:.0f} | {detail} |\n")

@@ -2,6 +2,8 @@
 // input, stored quantised, and decoded as small grids of their kept bins.
 #include "codec_coverage.h"
 
+#include "pdc_format.h"
+
 #include "point_conversion.h"
 
 #include <pcl_patchdict/metrics.h>
@@ -24,8 +26,6 @@ namespace detail {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-double gridMax(std::uint32_t bits) { return std::ldexp(1.0, static_cast<int>(bits)) - 1.0; }
 
 double signNotZero(double v) { return v < 0.0 ? -1.0 : 1.0; }
 
@@ -51,7 +51,7 @@ Eigen::Vector3d octahedralDecode(const Eigen::Vector2d& e)
 
 std::uint32_t quantiseUnit(double v, std::uint32_t bits)  // v in [−1, 1]
 {
-  const double scale = gridMax(bits);
+  const double scale = gridScale(bits);
   return static_cast<std::uint32_t>(std::clamp(std::lround((v + 1.0) * 0.5 * scale), 0L, static_cast<long>(scale)));
 }
 
@@ -59,10 +59,7 @@ CoverageFrame quantiseFrame(const Eigen::Vector3d& seed, const Eigen::Vector3d& 
                             std::uint32_t position_bits)
 {
   CoverageFrame frame;
-  const double scale = gridMax(position_bits);
-  for (int k = 0; k < 3; ++k)
-    frame.position[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(
-        std::clamp(std::lround((seed[k] + 0.5) * scale), 0L, static_cast<long>(scale)));
+  frame.position = quantisePosition(seed, position_bits);
   const Eigen::Vector2d e = octahedralEncode(normal);
   frame.normal_u = quantiseUnit(e.x(), kCoverageNormalBits);
   frame.normal_v = quantiseUnit(e.y(), kCoverageNormalBits);
@@ -85,10 +82,10 @@ CoverageFrame quantiseFrame(const Eigen::Vector3d& seed, const Eigen::Vector3d& 
 void coverageSeedAndRotation(const CoverageFrame& frame, std::uint32_t position_bits, Eigen::Vector3d& seed,
                              Eigen::Matrix3d& rotation)
 {
-  const double scale = gridMax(position_bits);
+  const double scale = gridScale(position_bits);
   for (int k = 0; k < 3; ++k)
     seed[k] = frame.position[static_cast<std::size_t>(k)] / scale - 0.5;
-  const double normal_scale = gridMax(kCoverageNormalBits);
+  const double normal_scale = gridScale(kCoverageNormalBits);
   const Eigen::Vector3d z = octahedralDecode(
       Eigen::Vector2d(frame.normal_u / normal_scale * 2.0 - 1.0, frame.normal_v / normal_scale * 2.0 - 1.0));
   const Eigen::Vector3d x0 = z.unitOrthogonal(), y0 = z.cross(x0);
@@ -225,24 +222,39 @@ std::vector<char> coverageBins(const std::vector<char>& observed, const std::vec
   return kept;
 }
 
+std::size_t completeCells(const std::vector<char>& kept, int grid)
+{
+  std::size_t cells = 0;
+  for (int j = 0; j + 1 < grid; ++j)
+    for (int i = 0; i + 1 < grid; ++i)
+      cells += kept[static_cast<std::size_t>(j * grid + i)] && kept[static_cast<std::size_t>(j * grid + i + 1)] &&
+                       kept[static_cast<std::size_t>((j + 1) * grid + i)] &&
+                       kept[static_cast<std::size_t>((j + 1) * grid + i + 1)]
+                   ? 1
+                   : 0;
+  return cells;
+}
+
 void appendCoveragePiece(const Eigen::Vector3d& seed, const Eigen::Matrix3d& rotation, double side, int grid,
                          const Eigen::VectorXd& heights, const std::vector<char>& kept, TriangleMesh& out)
 {
   const std::vector<Eigen::Vector3d> points = binPoints(seed, rotation, side, grid, heights);
+  // A vertex for every kept bin that a complete cell uses; two triangles per complete cell.
   std::vector<std::int32_t> index(points.size(), -1);
-  for (std::size_t b = 0; b < points.size(); ++b)
-    if (kept[b]) {
-      index[b] = static_cast<std::int32_t>(out.vertices.size());
-      out.vertices.push_back(points[b]);
+  const auto vertex = [&](int i, int j) {
+    std::int32_t& slot = index[static_cast<std::size_t>(j * grid + i)];
+    if (slot < 0) {
+      slot = static_cast<std::int32_t>(out.vertices.size());
+      out.vertices.push_back(points[static_cast<std::size_t>(j * grid + i)]);
     }
+    return slot;
+  };
+  const auto on = [&](int i, int j) { return kept[static_cast<std::size_t>(j * grid + i)] != 0; };
   for (int j = 0; j + 1 < grid; ++j)
     for (int i = 0; i + 1 < grid; ++i) {
-      const std::int32_t a = index[static_cast<std::size_t>(j * grid + i)],
-                         b = index[static_cast<std::size_t>(j * grid + i + 1)],
-                         c = index[static_cast<std::size_t>((j + 1) * grid + i + 1)],
-                         d = index[static_cast<std::size_t>((j + 1) * grid + i)];
-      if (a < 0 || b < 0 || c < 0 || d < 0)
+      if (!on(i, j) || !on(i + 1, j) || !on(i + 1, j + 1) || !on(i, j + 1))
         continue;
+      const std::int32_t a = vertex(i, j), b = vertex(i + 1, j), c = vertex(i + 1, j + 1), d = vertex(i, j + 1);
       // Counter-clockwise seen from +Z (X right, Y up): the piece faces the frame's Z.
       out.faces.push_back({a, b, c});
       out.faces.push_back({a, c, d});

@@ -36,7 +36,9 @@ void coverageSeedAndRotation(const CoverageFrame& frame, std::uint32_t position_
   * within r/4 that face its way, X = the main axis of its r-neighbourhood in the tangent plane
   * (a thin part runs along X, as quads follow principal directions); the uncovered vertices the
   * patch sees — inside 80 % of its square, within r of the seed, their normals facing Z — are then
-  * covered. Stops when every vertex is covered or after `max_patches`. Deterministic. */
+  * covered (with the seed itself, even when the patch is dropped for seeing fewer than two of
+  * them). Stops when every vertex is covered or after `max_patches` frames; the caller may drop
+  * frames whose patch then keeps no complete cell, which still count here. Deterministic. */
 std::vector<CoverageFrame> chooseCoverageFrames(const TriangleMesh& surface, const TriangleMesh& decoded,
                                                 double radius, double tolerance, std::uint32_t position_bits,
                                                 std::size_t max_patches);
@@ -51,8 +53,11 @@ std::vector<char> coverageBins(const std::vector<char>& observed, const std::vec
 std::vector<Eigen::Vector3d> binPoints(const Eigen::Vector3d& seed, const Eigen::Matrix3d& rotation, double side,
                                        int grid, const Eigen::VectorXd& heights);
 
+/** Cells (2×2 bins) whose four bins are all kept: what a piece will have of surface. */
+std::size_t completeCells(const std::vector<char>& kept, int grid);
+
 /** Decoder: appends a decoded coverage patch to `out` as a grid of its kept bins' points, two
-  * triangles per cell whose four corners are kept. */
+  * triangles per cell whose four corners are kept (bins no such cell uses add no vertex). */
 void appendCoveragePiece(const Eigen::Vector3d& seed, const Eigen::Matrix3d& rotation, double side, int grid,
                          const Eigen::VectorXd& heights, const std::vector<char>& kept, TriangleMesh& out);
 

@@ -30,6 +30,7 @@ using detail::dequantisedCodes;
 using detail::describeContent;
 using detail::fanTriangles;
 using detail::gridScale;
+using detail::quantisePosition;
 using detail::quadSeeds;
 using detail::rebuildQuadMesh;
 using detail::renumberByFirstUse;
@@ -103,7 +104,7 @@ void addCoveragePatches(const TriangleMesh& surface, const PatchDictionary& dict
   detail::PdcContent quads_only = c;
   quads_only.subdivision = std::min<std::uint32_t>(c.subdivision, std::max<std::uint32_t>(1, c.grid_size / 2));
   PatchCodec::Report scratch;
-  const TriangleMesh decoded = decodeSurface(quads_only, dictionary, "", scratch);
+  const TriangleMesh decoded = decodeSurface(quads_only, dictionary, "codec: decoding its own output: ", scratch);
   const double tolerance = p.coverage_tolerance * p.quad_length;
   const auto max_patches = static_cast<std::size_t>(p.coverage_budget * static_cast<double>(c.atoms.size()));
   const std::vector<detail::CoverageFrame> frames =
@@ -122,10 +123,8 @@ void addCoveragePatches(const TriangleMesh& surface, const PatchDictionary& dict
   PatchSet sampled;
   extractor.setSeeds(seeds, reference_frames);
   extractor.compute(sampled);
-  const double position_scale = gridScale(c.position_bits);
-  const std::vector<std::int64_t> offsets = seedOffsets(sampled, grid, position_scale);
-  for (std::size_t q = 0; q < frames.size(); ++q)
-    seeds[q] += rotations[q].row(2).transpose() * (static_cast<double>(offsets[q]) / position_scale);
+  const std::vector<std::int64_t> offsets = seedOffsets(sampled, grid, gridScale(c.position_bits));
+  applySeedOffsets(offsets, c.position_bits, seeds, rotations);
   extractor.setSeeds(seeds, reference_frames);
   extractor.compute(sampled);
 
@@ -141,7 +140,7 @@ void addCoveragePatches(const TriangleMesh& surface, const PatchDictionary& dict
     const std::vector<double> distances =
         to_decoded.distances(detail::binPoints(seeds[q], rotations[q], sampled.side(), grid, heights));
     std::vector<char> kept = detail::coverageBins(observed, distances, tolerance, grid);
-    if (std::count(kept.begin(), kept.end(), 1) >= 4) {  // at least one cell of surface
+    if (detail::completeCells(kept, grid) > 0) {  // a piece with some surface
       useful.push_back(q);
       kept_bins.push_back(std::move(kept));
     }
@@ -268,13 +267,8 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
   c.subdivision = static_cast<std::uint32_t>(p.subdivision > 0 ? p.subdivision : std::max(1, grid / 2));
   c.location_bits = p.keep_connectivity ? static_cast<std::uint32_t>(p.location_bits) : 0;
   const double position_scale = gridScale(c.position_bits);
-  for (const auto& v : quads.vertices) {
-    std::array<std::uint32_t, 3> q;
-    for (int k = 0; k < 3; ++k)
-      q[k] = static_cast<std::uint32_t>(std::clamp(std::lround((v[k] + 0.5) * position_scale), 0L,
-                                                   static_cast<long>(position_scale)));
-    c.quad_positions.push_back(q);
-  }
+  for (const auto& v : quads.vertices)
+    c.quad_positions.push_back(quantisePosition(v, c.position_bits));
   c.quad_faces = quads.faces;
   // From here on, the encoder sees exactly what the decoder will.
   quads = rebuildQuadMesh(c);
@@ -300,7 +294,7 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
   extractor.setSeeds(patches.seeds, frames);
   extractor.compute(sampled);
   c.offsets = seedOffsets(sampled, grid, position_scale);
-  applySeedOffsets(c, patches);
+  applySeedOffsets(c.offsets, c.position_bits, patches.seeds, patches.rotations);
   extractor.setSeeds(patches.seeds, frames);
   extractor.compute(sampled);
   local.seconds_patches = since(t);

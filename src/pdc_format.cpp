@@ -44,6 +44,16 @@ std::string getSection(ByteReader& in)
   return inflateBytes(packed, static_cast<std::size_t>(raw_size), in.what());
 }
 
+/** previous + the next stored delta; a delta no field of the format can hold (|d| > 2^40) is
+  * refused before the sum could overflow. */
+std::int64_t addDelta(ByteReader& in, std::int64_t previous, const char* field)
+{
+  const std::int64_t delta = in.getSigned(), bound = std::int64_t(1) << 40;
+  if (delta > bound || delta < -bound)
+    throw Error(in.what() + "implausible " + field + " (the file is corrupted)");
+  return previous + delta;
+}
+
 void expectEnd(const ByteReader& in, const char* section)
 {
   if (!in.atEnd())
@@ -256,7 +266,7 @@ PdcContent readPdc(const std::string& bytes, const std::string& what)
     c.quad_positions.resize(num_positions);
     for (auto& p : c.quad_positions)
       for (int k = 0; k < 3; ++k) {
-        previous[k] += section.getSigned();
+        previous[k] = addDelta(section, previous[k], "quad vertex");
         if (previous[k] < 0 || previous[k] > limit)
           throw Error(what + "quad vertex outside the quantisation grid (the file is corrupted)");
         p[k] = static_cast<std::uint32_t>(previous[k]);
@@ -378,8 +388,9 @@ PdcContent readPdc(const std::string& bytes, const std::string& what)
     std::int64_t last = 0;
     c.faces.resize(num_faces);
     for (Face& f : c.faces) {
-      last += section.getSigned();
-      const std::int64_t corners[3] = {last, last + section.getSigned(), last + section.getSigned()};
+      last = addDelta(section, last, "face index");
+      const std::int64_t second = addDelta(section, last, "face index"), third = addDelta(section, last, "face index");
+      const std::int64_t corners[3] = {last, second, third};
       for (int k = 0; k < 3; ++k) {
         if (corners[k] < 0 || corners[k] >= static_cast<std::int64_t>(num_places))
           throw Error(what + "face index out of range (the file is corrupted)");
@@ -390,7 +401,7 @@ PdcContent readPdc(const std::string& bytes, const std::string& what)
     const std::uint64_t scale = (std::uint64_t(1) << c.location_bits) - 1;
     c.places.resize(num_places);
     for (VertexPlace& place : c.places) {
-      last += section.getSigned();
+      last = addDelta(section, last, "vertex place");
       if (last < 0 || last > std::numeric_limits<std::int32_t>::max())
         throw Error(what + "vertex place out of range (the file is corrupted)");
       place.triangle = static_cast<std::int32_t>(last);
@@ -417,7 +428,7 @@ PdcContent readPdc(const std::string& bytes, const std::string& what)
     c.coverage.resize(static_cast<std::size_t>(count));
     for (CoverageFrame& f : c.coverage) {
       for (int k = 0; k < 3; ++k) {
-        before[static_cast<std::size_t>(k)] += section.getSigned();
+        before[static_cast<std::size_t>(k)] = addDelta(section, before[static_cast<std::size_t>(k)], "coverage seed");
         if (before[static_cast<std::size_t>(k)] < 0 || before[static_cast<std::size_t>(k)] > limit)
           throw Error(what + "coverage seed outside the quantisation grid (the file is corrupted)");
         f.position[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(before[static_cast<std::size_t>(k)]);

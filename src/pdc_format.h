@@ -7,7 +7,9 @@
 #include <pcl_patchdict/normalization.h>
 #include <pcl_patchdict/triangle_mesh.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -48,6 +50,20 @@ struct PdcContent {
     * list above (codes, means, offsets, masks): patches = quad seeds + coverage.size(). */
   std::vector<CoverageFrame> coverage;
 };
+
+/** 2^bits − 1: the largest value of a quantisation grid of `bits` bits. */
+inline double gridScale(std::uint32_t bits) { return std::ldexp(1.0, static_cast<int>(bits)) - 1.0; }
+
+/** A unit-cube point on the position grid (quad vertices and coverage seeds alike). */
+inline std::array<std::uint32_t, 3> quantisePosition(const Eigen::Vector3d& p, std::uint32_t bits)
+{
+  const double scale = gridScale(bits);
+  std::array<std::uint32_t, 3> q;
+  for (int k = 0; k < 3; ++k)
+    q[static_cast<std::size_t>(k)] =
+        static_cast<std::uint32_t>(std::clamp(std::lround((p[k] + 0.5) * scale), 0L, static_cast<long>(scale)));
+  return q;
+}
 
 /** Sizes of the parts of a written file. */
 struct PdcSizes {

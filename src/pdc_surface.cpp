@@ -95,11 +95,12 @@ void quadSeeds(const QuadMesh& quads, std::uint32_t overlap, std::vector<Eigen::
 }
 
 /** Seeds moved along their frames' Z by the stored offsets (position-grid units). */
-void applySeedOffsets(const PdcContent& c, PatchSet& patches)
+void applySeedOffsets(const std::vector<std::int64_t>& offsets, std::uint32_t position_bits,
+                      std::vector<Eigen::Vector3d>& seeds, const std::vector<Eigen::Matrix3d>& rotations)
 {
-  const double scale = gridScale(c.position_bits);
-  for (std::size_t q = 0; q < patches.seeds.size(); ++q)
-    patches.seeds[q] += patches.rotations[q].row(2).transpose() * (static_cast<double>(c.offsets[q]) / scale);
+  const double scale = gridScale(position_bits);
+  for (std::size_t q = 0; q < seeds.size(); ++q)
+    seeds[q] += rotations[q].row(2).transpose() * (static_cast<double>(offsets[q]) / scale);
 }
 
 /** The codes the receiver decodes: dequantised coefficients and means. */
@@ -160,12 +161,25 @@ TriangleMesh decodeSurface(const PdcContent& c, const PatchDictionary& dictionar
   if (patches.seeds.size() != num_quad_patches)
     throw Error(what + "the quad mesh gives " + std::to_string(patches.seeds.size()) + " patches, the file codes " +
                 std::to_string(num_quad_patches) + " (the file is corrupted)");
+  // The decoded mesh's size, before anything is allocated for it: the subdivided quad mesh and
+  // every coverage patch's grid, with at most 10 coverage patches per quad patch (the encoder's
+  // largest budget) — a few hundred bytes must not ask for gigabytes.
+  if (c.coverage.size() > 10 * num_quad_patches)
+    throw Error(what + "more coverage patches than an encoder makes (the file is corrupted)");
+  const double grid_bins = static_cast<double>(c.grid_size) * static_cast<double>(c.grid_size);
+  const double output_vertices =
+      (c.keep_connectivity ? static_cast<double>(c.places.size())
+                           : static_cast<double>(quads.faces.size()) * (c.subdivision + 1.0) * (c.subdivision + 1.0)) +
+      static_cast<double>(c.coverage.size()) * grid_bins;
+  if (output_vertices > kMaxDecodedVertices)
+    throw Error(what + "the decoded mesh would have about " + std::to_string(static_cast<long long>(output_vertices)) +
+                " vertices, more than this decoder accepts (" + std::to_string(kMaxDecodedVertices) + ")");
   for (const CoverageFrame& frame : c.coverage) {
     patches.seeds.emplace_back();
     patches.rotations.emplace_back();
     coverageSeedAndRotation(frame, c.position_bits, patches.seeds.back(), patches.rotations.back());
   }
-  applySeedOffsets(c, patches);
+  applySeedOffsets(c.offsets, c.position_bits, patches.seeds, patches.rotations);
   report.seconds_layout = since(t);
 
   t = Clock::now();
@@ -192,12 +206,6 @@ TriangleMesh decodeSurface(const PdcContent& c, const PatchDictionary& dictionar
     }
     target.faces = c.faces;
   } else {
-    // A few hundred bytes can ask for a quad mesh subdivided 256 times per side: refuse outputs no
-    // real encoding needs (2^25 vertices) before allocating them.
-    const double vertices = static_cast<double>(quads.faces.size()) * (c.subdivision + 1.0) * (c.subdivision + 1.0);
-    if (vertices > kMaxDecodedVertices)
-      throw Error(what + "the decoded mesh would have about " + std::to_string(static_cast<long long>(vertices)) +
-                  " vertices, more than this decoder accepts (" + std::to_string(kMaxDecodedVertices) + ")");
     target = subdivideQuadMesh(quads, static_cast<int>(c.subdivision));
   }
   // The quad mesh's surface comes from its own patches; coverage patches only add their pieces.

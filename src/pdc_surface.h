@@ -21,9 +21,6 @@ namespace pcl {
 namespace patchdict {
 namespace detail {
 
-/** 2^bits − 1: the largest value of a quantisation grid of `bits` bits. */
-inline double gridScale(std::uint32_t bits) { return std::ldexp(1.0, static_cast<int>(bits)) - 1.0; }
-
 /** Renumbers the vertices in order of first use by the faces (what the face coding expects) and
   * drops vertices no face uses; works for triangles and polygons alike. */
 template <typename FaceList>
@@ -51,8 +48,10 @@ QuadMesh rebuildQuadMesh(const PdcContent& c);
 void quadSeeds(const QuadMesh& quads, std::uint32_t overlap, std::vector<Eigen::Vector3d>& seeds,
                pcl::PointCloud<pcl::ReferenceFrame>& frames, std::vector<Eigen::Matrix3d>& rotations);
 
-/** Seeds moved along their frames' Z by the stored offsets (position-grid units). */
-void applySeedOffsets(const PdcContent& c, PatchSet& patches);
+/** Seeds moved along their frames' Z (row 2 of each rotation) by the stored offsets, in units of
+  * the position grid: the encoder and the decoder move them with this one function. */
+void applySeedOffsets(const std::vector<std::int64_t>& offsets, std::uint32_t position_bits,
+                      std::vector<Eigen::Vector3d>& seeds, const std::vector<Eigen::Matrix3d>& rotations);
 
 /** The codes the receiver decodes: dequantised coefficients and means. */
 PatchCodes dequantisedCodes(const PdcContent& c);

@@ -16,8 +16,12 @@
 
 #include <omp.h>
 
+#include <zlib.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 using namespace pcl::patchdict;
 using test_support::q;
@@ -172,19 +176,31 @@ TEST(PatchCodec, CoveragePatchesReachThePartsTheQuadsMiss)
   EXPECT_GT(with_report.coverage_patches, 0u);
   EXPECT_GT(with_report.coverage_bytes, 0u);
   EXPECT_EQ(with_report.patches, without_report.patches + with_report.coverage_patches);
-  EXPECT_EQ(with_report.patchEntities(), with_report.nonzeros + with_report.quad_vertices +
-                                             4 * with_report.quad_faces + 2 * with_report.coverage_patches);
   EXPECT_LT(with.size(), without.size() * 13 / 10);
+  // Same bytes with one thread (the greedy choice, the sampling and the codes do not depend on it).
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const std::string again = codec.encode(bunny);
+  omp_set_num_threads(threads);
+  EXPECT_TRUE(again == with);
 
   TriangleMesh decoded_without, decoded_with;
   codec.decode(without, decoded_without);
   PatchCodec::Report decoded_report;
   codec.decode(with, decoded_with, &decoded_report);
   EXPECT_EQ(decoded_report.coverage_patches, with_report.coverage_patches);
-  // The quad mesh's surface is the same; the coverage pieces come after it.
-  ASSERT_GT(decoded_with.vertices.size(), decoded_without.vertices.size());
+  // The quad mesh's surface is the same; the coverage pieces come after it, every vertex of them
+  // in a face.
+  ASSERT_GT(decoded_with.faces.size(), decoded_without.faces.size());
   for (std::size_t v = 0; v < decoded_without.vertices.size(); ++v)
     ASSERT_TRUE(decoded_with.vertices[v] == decoded_without.vertices[v]) << v;
+  for (std::size_t f = 0; f < decoded_without.faces.size(); ++f)
+    ASSERT_TRUE(decoded_with.faces[f] == decoded_without.faces[f]) << f;
+  std::vector<char> used(decoded_with.vertices.size(), 0);
+  for (const Face& f : decoded_with.faces)
+    for (const std::int32_t v : f)
+      used[static_cast<std::size_t>(v)] = 1;
+  EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0);
   const SurfaceDistance d0 = surfaceDistance(bunny, decoded_without, 50000, 1);
   const SurfaceDistance d1 = surfaceDistance(bunny, decoded_with, 50000, 1);
   RecordProperty("psnr_without", std::to_string(d0.psnr));
@@ -232,6 +248,99 @@ TEST(PatchCodec, AnErrorTargetSpendsFewerCoefficientsForLittleError)
   // The patches' own error grows, but stays near the target (RMS over the observed bins).
   EXPECT_GT(targeted_report.patch_rmse, full_report.patch_rmse);
   EXPECT_LT(targeted_report.patch_rmse, 2.0 * 0.01 * parameters.quad_length);
+}
+
+namespace {
+
+void putVarint(std::string& out, std::uint64_t v)
+{
+  for (; v >= 0x80; v >>= 7)
+    out.push_back(static_cast<char>(v | 0x80));
+  out.push_back(static_cast<char>(v));
+}
+
+void putSigned(std::string& out, std::int64_t v)
+{
+  putVarint(out, (static_cast<std::uint64_t>(v) << 1) ^ static_cast<std::uint64_t>(v >> 63));
+}
+
+/** .pdc bytes whose last section (the coverage frames) is `raw`, deflated, with a valid checksum:
+  * what only a crafted file can hold. The fixed header is 136 bytes, then nine sections of
+  * (raw size, packed size, packed bytes), then the 8-byte checksum. */
+std::string withCoverageSection(const std::string& bytes, const std::string& raw)
+{
+  std::size_t at = 136;
+  const auto u64 = [&](std::size_t offset) {
+    std::uint64_t v = 0;
+    std::memcpy(&v, bytes.data() + offset, 8);
+    return v;
+  };
+  for (int section = 0; section < 8; ++section)
+    at += 16 + static_cast<std::size_t>(u64(at + 8));
+  std::string packed(compressBound(raw.size()), '\0');
+  uLongf packed_size = packed.size();
+  EXPECT_EQ(compress2(reinterpret_cast<Bytef*>(&packed[0]), &packed_size, reinterpret_cast<const Bytef*>(raw.data()),
+                      raw.size(), 9),
+            Z_OK);
+  packed.resize(packed_size);
+  std::string out = bytes.substr(0, at);
+  for (const std::uint64_t v : {static_cast<std::uint64_t>(raw.size()), static_cast<std::uint64_t>(packed.size())})
+    out.append(reinterpret_cast<const char*>(&v), 8);
+  out += packed;
+  const std::uint64_t sum = fnv1a64(out.data(), out.size());
+  out.append(reinterpret_cast<const char*>(&sum), 8);
+  return out;
+}
+
+}  // namespace
+
+TEST(PatchCodec, RejectsCraftedCoverageSections)
+{
+  const TriangleMesh sphere = makeIcosphere(3);
+  auto dictionary = std::make_shared<PatchDictionary>();
+  dictionary->setAtoms(Eigen::MatrixXd::Identity(8 * 8, 8));
+  PatchCodec codec;
+  codec.setDictionary(dictionary);
+  PatchCodecParameters parameters;
+  parameters.quad_length = 0.25;
+  parameters.coefficients = 2;
+  codec.setParameters(parameters);
+  PatchCodec::Report report;
+  const std::string bytes = codec.encode(sphere, &report);
+  ASSERT_EQ(report.coverage_patches, 0u);  // a sphere: the quads reach all of it
+  const std::size_t patches = report.patches;
+  TriangleMesh out;
+  // The rewriting itself keeps a valid file valid: an empty section decodes as before.
+  std::string empty;
+  putVarint(empty, 0);
+  codec.decode(withCoverageSection(bytes, empty), out);
+  EXPECT_FALSE(out.faces.empty());
+  const auto expectError = [&](const std::string& raw, const std::string& expected) {
+    try {
+      codec.decode(withCoverageSection(bytes, raw), out);
+      ADD_FAILURE() << "accepted; expected an error about '" << expected << "'";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  const auto frames = [](std::size_t count, std::int64_t delta, std::uint64_t normal) {
+    std::string raw;
+    putVarint(raw, count);
+    for (std::size_t k = 0; k < count; ++k) {
+      for (int axis = 0; axis < 3; ++axis)
+        putSigned(raw, k == 0 ? 500 : delta);
+      putVarint(raw, normal);
+      putVarint(raw, normal);
+      putVarint(raw, 3);
+    }
+    return raw;
+  };
+  expectError(frames(patches, 0, 2047), "implausible coverage patch count");
+  expectError(frames(1, 0, 4096), "coverage frame out of range");  // normals have 12 bits
+  expectError(frames(2, 600, 2047), "coverage seed outside the quantisation grid");
+  expectError(frames(2, std::int64_t(1) << 62, 2047), "implausible coverage seed");  // no overflow
+  // One frame more than the patches the file codes: the quad mesh then gives too few.
+  expectError(frames(1, 0, 2047), "the file codes");
 }
 
 TEST(PatchCodec, KeptConnectivityIsTheInputsAndCostsBytes)

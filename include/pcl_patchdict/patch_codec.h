@@ -57,7 +57,8 @@ struct PatchCodecParameters {
   * those seeds; masked OMP with `coefficients` atoms; coefficients uniformly quantised. Then the
   * encoder decodes what it wrote: parts of the input the result misses (no quads reach them)
   * get coverage patches, whose frames are stored (seed on the position grid, octahedral normal,
-  * tangent angle: ~6 bytes) and whose codes cover only the bins the surface lacks.
+  * tangent angle: ~11 bytes before deflate, 9.5 after on lucy) and whose codes cover only the bins
+  * the surface lacks.
   *
   * File: magic "PDCv", version, the dictionary's fingerprint, grid size and atom count, the
   * parameters, the normalisation, then zlib-packed sections — quad vertices (deltas), quad faces
@@ -81,12 +82,12 @@ public:
                 coefficient_bytes = 0, mean_bytes = 0, mask_bytes = 0, connectivity_bytes = 0,
                 total_bytes = 0;
     std::size_t quad_vertices = 0, quad_faces = 0, patches = 0, nonzeros = 0;
-    std::size_t masked_patches = 0;  ///< patches with bins off the surface (their masks are stored)
+    std::size_t masked_patches = 0;  ///< patches whose masks are stored (bins off the surface; every coverage patch)
     std::size_t coverage_patches = 0;  ///< of `patches`: those with stored frames (see coverage_tolerance)
     std::size_t coverage_bytes = 0;    ///< their frames' section
     std::size_t output_vertices = 0, output_faces = 0;
     double coefficient_step = 0.0;
-    double patch_rmse = 0.0;  ///< encoder: RMS height error of the quantised codes, observed bins (unit cube)
+    double patch_rmse = 0.0;  ///< encoder: RMS height error of the quad patches' quantised codes, observed bins (unit cube)
     double seconds_layout = 0.0, seconds_patches = 0.0, seconds_coding = 0.0, seconds_reconstruct = 0.0,
            seconds_coverage = 0.0;  ///< encoder: decoding its own output and choosing coverage patches
     /** The paper's count (Table 1): non-zero coefficients plus the quad mesh's entities
