@@ -3,6 +3,7 @@
 #include "cli.h"
 
 #include <pcl_patchdict/atomic_file.h>
+#include <pcl_patchdict/mesh_render.h>
 #include <pcl_patchdict/metrics.h>
 #include <pcl_patchdict/normalization.h>
 #include <pcl_patchdict/patch_codec.h>
@@ -148,9 +149,10 @@ int runCompress(const std::vector<std::string>& raw)
 int runDecompress(const std::vector<std::string>& raw)
 {
   auto value_options = commonValueOptions();
-  value_options.insert({"output", "dict", "ref", "samples"});
+  value_options.insert({"output", "dict", "ref", "samples", "png"});
   const Arguments args(raw, value_options, commonFlagOptions());
-  const std::string usage = "pcl_patchdict decompress IN.pdc --dict DICT.pdd -o OUT [--ref REF] [--json]";
+  const std::string usage =
+      "pcl_patchdict decompress IN.pdc --dict DICT.pdd -o OUT [--ref REF] [--png PICTURE.png] [--json]";
   args.expectPositionals(1, 1, usage);
   if (!args.has("output") || !args.has("dict"))
     throw UsageError("usage: " + usage);
@@ -163,6 +165,11 @@ int runDecompress(const std::vector<std::string>& raw)
     throw UsageError("--dict and -o name the same file");
   if (args.has("ref") && sameFile(args.get("ref"), output))
     throw UsageError("--ref and -o name the same file");
+  if (args.has("png")) {
+    checkOutputPath(args.get("png"), input);
+    if (sameFile(args.get("png"), output))
+      throw UsageError("--png and -o name the same file");
+  }
 
   StageTimer timer(quiet);
   timer.start("load");
@@ -175,6 +182,20 @@ int runDecompress(const std::vector<std::string>& raw)
   codec.decompress(input, decoded, &report);
   timer.start("save");
   writeMesh(output, decoded);
+  if (args.has("png")) {
+    // The quad mesh's surface in grey, the coverage patches' pieces (the last faces) in orange.
+    std::vector<std::vector<std::int32_t>> faces;
+    std::vector<std::array<std::uint8_t, 3>> colours;
+    const std::size_t first_piece = decoded.faces.size() - report.coverage_faces;
+    for (std::size_t f = 0; f < decoded.faces.size(); ++f) {
+      faces.push_back({decoded.faces[f][0], decoded.faces[f][1], decoded.faces[f][2]});
+      colours.push_back(f < first_piece ? std::array<std::uint8_t, 3>{200, 200, 200}
+                                        : std::array<std::uint8_t, 3>{240, 140, 40});
+    }
+    RenderOptions options;
+    options.draw_edges = false;
+    writePolygonsPNG(args.get("png"), decoded.vertices, faces, colours, options);
+  }
   SurfaceDistance distance;
   TriangleMesh reference;
   if (args.has("ref")) {
@@ -187,7 +208,7 @@ int runDecompress(const std::vector<std::string>& raw)
     JsonObject json;
     json.add("command", "decompress").add("input", input).add("output", output).add("dictionary", args.get("dict"));
     json.add("bytes", report.total_bytes).add("patches", report.patches).add("nonzeros", report.nonzeros);
-    json.add("coverage_patches", report.coverage_patches);
+    json.add("coverage_patches", report.coverage_patches).add("coverage_faces", report.coverage_faces);
     json.add("vertices", report.output_vertices).add("faces", report.output_faces);
     if (args.has("ref"))
       addPsnr(json, distance, reference);

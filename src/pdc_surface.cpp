@@ -233,6 +233,7 @@ TriangleMesh decodeSurface(const PdcContent& c, const PatchDictionary& dictionar
     trimUnseen(reconstruction_report.off_surface, decoded);
   const int grid = static_cast<int>(c.grid_size);
   const std::size_t bins = static_cast<std::size_t>(grid) * static_cast<std::size_t>(grid);
+  const std::size_t quad_surface_faces = decoded.faces.size();
   for (std::size_t q = num_quad_patches; q < num_patches; ++q) {
     const auto column = static_cast<Eigen::Index>(q);
     std::vector<char> kept(bins);
@@ -245,6 +246,7 @@ TriangleMesh decodeSurface(const PdcContent& c, const PatchDictionary& dictionar
     throw Error(what + "the decoded surface is empty (the file is corrupted)");
   report.seconds_reconstruct = since(t);
   describeContent(c, codes, report);
+  report.coverage_faces = decoded.faces.size() - quad_surface_faces;
   return decoded;
 }
 

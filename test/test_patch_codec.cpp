@@ -535,9 +535,11 @@ TEST(PatchCodec, CommandsCompressDecompressAndFailInOneLine)
   EXPECT_TRUE(test_support::readFile(input) == before);
 
   result = runTool("decompress " + q(dir.file("b.pdc")) + " --dict " + q(dir.file("dict.pdd")) + " -o " +
-                   q(dir.file("b.ply")) + " --ref " + q(input) + " --json");
+                   q(dir.file("b.ply")) + " --ref " + q(input) + " --png " + q(dir.file("b.png")) + " --json");
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_GT(test_support::jsonNumber(result.out, "psnr"), 62.0);
+  EXPECT_LT(test_support::jsonNumber(result.out, "coverage_faces"), test_support::jsonNumber(result.out, "faces"));
+  EXPECT_EQ(test_support::readFile(dir.file("b.png")).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
 
   // A truncated file and another dictionary: one line, exit 1, no output.
   const std::string bytes = test_support::readFile(dir.file("b.pdc"));

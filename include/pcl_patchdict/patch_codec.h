@@ -86,6 +86,7 @@ public:
     std::size_t coverage_patches = 0;  ///< of `patches`: those with stored frames (see coverage_tolerance)
     std::size_t coverage_bytes = 0;    ///< their frames' section
     std::size_t output_vertices = 0, output_faces = 0;
+    std::size_t coverage_faces = 0;  ///< decoder: the last faces of the output, the coverage patches' pieces
     double coefficient_step = 0.0;
     double patch_rmse = 0.0;  ///< encoder: RMS height error of the quad patches' quantised codes, observed bins (unit cube)
     double seconds_layout = 0.0, seconds_patches = 0.0, seconds_coding = 0.0, seconds_reconstruct = 0.0,
