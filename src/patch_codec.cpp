@@ -206,8 +206,11 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
     throw Error("codec: coefficient bits must be in [2, 16]");
   if (p.position_bits < 4 || p.position_bits > 24)
     throw Error("codec: position bits must be in [4, 24]");
-  if (p.subdivision < 0 || p.subdivision > 256)
-    throw Error("codec: subdivision must be in [0, 256] (0: grid size / 2)");
+  // More splits per quad side than a patch has bins only interpolates between them, and lets a
+  // tiny file ask for millions of vertices (fuzzing: 890 bytes, 255 splits -> 2M vertices, 13 s).
+  if (p.subdivision < 0 || p.subdivision > grid)
+    throw Error("codec: subdivision must be in [0, " + std::to_string(grid) +
+                "] (at most the dictionary's grid size; 0: grid size / 2)");
   if (p.keep_connectivity && (p.location_bits < 4 || p.location_bits > 16))
     throw Error("codec: location bits must be in [4, 16]");
   if (!(p.target_error >= 0.0 && p.target_error <= 1.0))

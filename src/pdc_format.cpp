@@ -246,7 +246,7 @@ PdcContent readPdc(const std::string& bytes, const std::string& what)
   const bool plausible = c.grid_size >= 2 && c.grid_size <= 256 && c.num_atoms >= 1 && c.num_atoms <= 65536 &&
                          c.position_bits >= 1 && c.position_bits <= 30 && c.coefficient_bits >= 2 &&
                          c.coefficient_bits <= 16 && c.location_bits <= 16 && c.subdivision >= 1 &&
-                         c.subdivision <= 256 && c.quad_length > 0 && c.quad_length <= 1 && c.radius > 0 &&
+                         c.subdivision <= c.grid_size && c.quad_length > 0 && c.quad_length <= 1 && c.radius > 0 &&
                          c.radius <= 100 && std::isfinite(c.normalization.scale) && c.normalization.scale > 0 &&
                          std::isfinite(1.0 / c.normalization.scale) && c.normalization.center.allFinite() &&
                          c.coefficient_step >= 0 && c.coefficient_step <= 1e6 && c.mean_step >= 0 &&
