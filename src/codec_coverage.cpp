@@ -99,15 +99,15 @@ void coverageSeedAndRotation(const CoverageFrame& frame, std::uint32_t position_
   rotation = fromReferenceFrame(toReferenceFrame(rotation));
 }
 
-std::vector<CoverageFrame> chooseCoverageFrames(const TriangleMesh& surface, const TriangleMesh& decoded,
+std::vector<CoverageFrame> chooseCoverageFrames(const TriangleMesh& surface, const PointToMeshDistance& decoded,
                                                 double radius, double tolerance, std::uint32_t position_bits,
                                                 std::size_t max_patches)
 {
   std::vector<CoverageFrame> frames;
-  if (max_patches == 0 || surface.vertices.empty() || decoded.faces.empty())
+  if (max_patches == 0 || surface.vertices.empty())
     return frames;
   const std::size_t n = surface.vertices.size();
-  const std::vector<double> distance = PointToMeshDistance(decoded).distances(surface.vertices);
+  const std::vector<double> distance = decoded.distances(surface.vertices);
   std::vector<std::int32_t> candidates;
   std::vector<char> covered(n, 1);
   for (std::size_t v = 0; v < n; ++v)

@@ -3,6 +3,7 @@
 // Private to the library (PatchCodec uses it).
 #pragma once
 
+#include <pcl_patchdict/metrics.h>
 #include <pcl_patchdict/triangle_mesh.h>
 
 #include <Eigen/Core>
@@ -39,7 +40,7 @@ void coverageSeedAndRotation(const CoverageFrame& frame, std::uint32_t position_
   * covered (with the seed itself, even when the patch is dropped for seeing fewer than two of
   * them). Stops when every vertex is covered or after `max_patches` frames; the caller may drop
   * frames whose patch then keeps no complete cell, which still count here. Deterministic. */
-std::vector<CoverageFrame> chooseCoverageFrames(const TriangleMesh& surface, const TriangleMesh& decoded,
+std::vector<CoverageFrame> chooseCoverageFrames(const TriangleMesh& surface, const PointToMeshDistance& decoded,
                                                 double radius, double tolerance, std::uint32_t position_bits,
                                                 std::size_t max_patches);
 

@@ -107,8 +107,10 @@ void addCoveragePatches(const TriangleMesh& surface, const PatchDictionary& dict
   const TriangleMesh decoded = decodeSurface(quads_only, dictionary, "codec: decoding its own output: ", scratch);
   const double tolerance = p.coverage_tolerance * p.quad_length;
   const auto max_patches = static_cast<std::size_t>(p.coverage_budget * static_cast<double>(c.atoms.size()));
+  // One distance tree of the decoded surface, for the input's vertices and the patches' bins.
+  const PointToMeshDistance to_decoded(decoded);
   const std::vector<detail::CoverageFrame> frames =
-      detail::chooseCoverageFrames(surface, decoded, c.radius, tolerance, c.position_bits, max_patches);
+      detail::chooseCoverageFrames(surface, to_decoded, c.radius, tolerance, c.position_bits, max_patches);
   if (frames.empty())
     return;
   const int grid = static_cast<int>(c.grid_size);
@@ -128,7 +130,6 @@ void addCoveragePatches(const TriangleMesh& surface, const PatchDictionary& dict
   extractor.setSeeds(seeds, reference_frames);
   extractor.compute(sampled);
 
-  const PointToMeshDistance to_decoded(decoded);
   std::vector<std::size_t> useful;
   std::vector<std::vector<char>> kept_bins;
   for (std::size_t q = 0; q < frames.size(); ++q) {
