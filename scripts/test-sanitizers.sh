@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer, in its own build folder
 # (build-asan/, -O1 with line tables, without the benchmarks and the examples; measured in CI's
-# rehearsal of afcbc39 on 2 cores: build and suite 23 min, the suite 11.7 min of it, with .ci/run's
-# exclusions). Leak detection is on; the one suppression (PCL's Poisson table) sits beside the Poisson call
+# rehearsal of 8d5a880 on 2 idle cores: build and suite 1067 s, the suite 521 s of it, with
+# .ci/run's exclusions). Leak detection is on; the one suppression (PCL's Poisson table) sits beside the Poisson call
 # in src/coarse_mesh_estimation.cpp. Extra arguments go to ctest (e.g. -R CliBadInput).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
