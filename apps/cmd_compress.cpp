@@ -46,14 +46,14 @@ int runCompress(const std::vector<std::string>& raw)
   auto value_options = commonValueOptions();
   value_options.insert({"output", "dict", "quad-length", "patch-scale", "overlap", "coefficients", "coefficient-bits",
                         "position-bits", "subdivision", "smooth-iterations", "location-bits", "samples",
-                        "coverage-tolerance", "coverage-budget", "target-error"});
+                        "coverage-tolerance", "coverage-budget", "target-error", "atom-cost"});
   auto flag_options = commonFlagOptions();
   flag_options.insert({"keep-connectivity", "no-eval", "no-projection"});
   const Arguments args(raw, value_options, flag_options);
   const std::string usage =
       "pcl_patchdict compress IN --dict DICT.pdd -o OUT.pdc [--quad-length L] [--coefficients S] "
       "[--coefficient-bits B] [--position-bits B] [--patch-scale F] [--overlap K] [--subdivision N] [--keep-connectivity "
-      "[--location-bits B]] [--target-error E] [--coverage-tolerance T] [--coverage-budget F] [--no-eval] [--json]";
+      "[--location-bits B]] [--target-error E] [--atom-cost C] [--coverage-tolerance T] [--coverage-budget F] [--no-eval] [--json]";
   args.expectPositionals(1, 1, usage);
   if (!args.has("output") || !args.has("dict"))
     throw UsageError("usage: " + usage);
@@ -76,6 +76,7 @@ int runCompress(const std::vector<std::string>& raw)
       args.getDouble("coverage-tolerance", parameters.coverage_tolerance, 0.0, 10.0);
   parameters.coverage_budget = args.getDouble("coverage-budget", parameters.coverage_budget, 0.0, 10.0);
   parameters.target_error = args.getDouble("target-error", parameters.target_error, 0.0, 1.0);
+  parameters.atom_cost = args.getDouble("atom-cost", parameters.atom_cost, 0.0, 10.0);
   parameters.seed = static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62)));
   const auto samples = static_cast<std::size_t>(args.getInt("samples", 200000, 1000, 100000000));
   const std::string input = args.positionals()[0], output = args.get("output");
@@ -121,7 +122,7 @@ int runCompress(const std::vector<std::string>& raw)
     json.add("quad_vertices", report.quad_vertices).add("quad_faces", report.quad_faces);
     json.add("patches", report.patches).add("nonzeros", report.nonzeros).add("masked_patches", report.masked_patches);
     json.add("coverage_patches", report.coverage_patches).add("coverage_tolerance", parameters.coverage_tolerance);
-    json.add("target_error", parameters.target_error);
+    json.add("target_error", parameters.target_error).add("atom_cost", parameters.atom_cost);
     json.add("bytes", report.total_bytes).add("parts", partsJson(report));
     json.add("mesh_entities", meshEntities(mesh)).add("patch_entities", report.patchEntities());
     json.add("entity_factor", entity_factor).add("raw_bytes", raw_bytes).add("byte_factor", byte_factor);

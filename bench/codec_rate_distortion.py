@@ -8,14 +8,17 @@
    --lengths (patch side 1.25 L, 20 coefficients per patch, 6-bit coefficients, 10-bit quad
    vertices, coverage patches where the quads miss the surface by more than 0.1 L); bytes of the .pdc
    file, the paper's entity count, and PSNR = 20 log10(bbox diagonal / symmetric RMS surface distance)
-   of the decoded mesh (200k samples each way, as the harness does). Each L with four settings
-   (VARIANTS): the defaults, error targets 0.01 L and 0.025 L (`--target-error`: at most 20 non-zeros,
-   fewer where a patch is already coded that well), and no coverage patches (`--coverage-tolerance 0`).
+   of the decoded mesh (200k samples each way, as the harness does). Each L with five settings
+   (VARIANTS): the defaults; an error target of 0.025 L (`--target-error`: at most 20 non-zeros, fewer
+   where a patch is already coded that well); one price per atom, 0.02 L² and 0.08 L² (`--atom-cost`:
+   each patch keeps the atoms that lower its squared error by more than the price); and no coverage
+   patches (`--coverage-tolerance 0`).
 3. Draco (`draco_encoder -cl 7 -qp Q`, Q in --draco-bits) on the same meshes, decoded by
    `draco_decoder` and scored by `pcl_patchdict eval` (the same PSNR).
 
 Writes <out>.csv (every point), <out>.png (PSNR against bytes, log scale, one panel per mesh: blue
-ours with the defaults, green with the 0.025 L error target, grey without coverage patches, red
+ours with the defaults, green with the 0.025 L error target, purple at the 0.02 L² atom price, grey
+without coverage patches, red
 Draco) and <out>_table1.md (Table 1: for each mesh the setting with the largest entity factor at or
 above the paper's PSNR, and Draco's bytes at that PSNR, interpolated on its curve).
 Needs the `draco` Debian package (installed here with apt-get when missing and run as root).
@@ -45,10 +48,12 @@ TESTED = ["bunny", "fandisk", "armadillo", "lucy", "max_planck"]
 PAPER = {"bunny": (31.3, 60.6), "fandisk": (3.9, 62.1)}
 SCAN_BAR = (28.0, 56.0)
 # Our settings at each L: the defaults (coverage patches at 0.1 L, 20 non-zeros per patch); a per-patch
-# error target that stops taking atoms once a patch is coded well enough (0.01 L, 0.025 L); and no
+# error target that stops taking atoms once a patch is coded well enough (0.025 L); one price per atom
+# for every patch (0.02 L², 0.08 L²), which puts the atoms where they remove the most error; and no
 # coverage patches, to show what they add.
-VARIANTS = [("patchdict", []), ("patchdict-e0.01", ["--target-error", "0.01"]),
-            ("patchdict-e0.025", ["--target-error", "0.025"]), ("patchdict-nocov", ["--coverage-tolerance", "0"])]
+VARIANTS = [("patchdict", []), ("patchdict-e0.025", ["--target-error", "0.025"]),
+            ("patchdict-c0.02", ["--atom-cost", "0.02"]), ("patchdict-c0.08", ["--atom-cost", "0.08"]),
+            ("patchdict-nocov", ["--coverage-tolerance", "0"])]
 
 
 def run(*command, parse=True):
@@ -111,7 +116,7 @@ def plot(path, rows):
             canvas.line(left + 1, py(y), right, py(y), (225, 225, 225))
             canvas.text(left - 30, py(y) - 5, str(y))
         for method, colour in (("patchdict-nocov", (160, 160, 160)), ("patchdict-e0.025", (40, 160, 60)),
-                               ("patchdict", blue), ("draco", red)):
+                               ("patchdict-c0.02", (150, 60, 170)), ("patchdict", blue), ("draco", red)):
             series = sorted((math.log10(float(r["bytes"])), float(r["psnr"])) for r in points if r["method"] == method)
             for (x0, y0), (x1, y1) in zip(series, series[1:]):
                 canvas.line(px(x0), py(y0), px(x1), py(y1), colour, thick=2)

@@ -18,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
+#include <vector>
 
 namespace pcl {
 namespace patchdict {
@@ -47,6 +48,47 @@ SparseCodingParameters codingParameters(const PatchCodecParameters& p, int atoms
   const double target = p.target_error * p.quad_length;
   coding.max_squared_error_per_entry = target * target;
   return coding;
+}
+
+/** Every patch coded with its first k atoms, k chosen per patch by one price per atom (a Lagrangian
+  * allocation: Everett 1963; Shoham & Gersho 1988): k ≤ `coefficients` minimises E_k + λ k, with
+  * E_k the summed squared error of the patch's observed bins after OMP's first k atoms and
+  * λ = atom_cost × L². OMP is greedy, so the code of k atoms is the prefix of the longer codes: the
+  * path is the codes of max_atoms = 0 … coefficients. */
+PatchCodes allocatedCodes(const PatchDictionary& dictionary, const PatchSet& sampled, const PatchCodecParameters& p)
+{
+  const double lambda = p.atom_cost * p.quad_length * p.quad_length;
+  const Eigen::Index count = sampled.heights.cols();
+  PatchCodes codes;
+  std::vector<SparseCodes> path;
+  Eigen::MatrixXd cost(p.coefficients + 1, count);
+  for (int k = 0; k <= p.coefficients; ++k) {
+    PatchCodes at_k = dictionary.encodeMasked(sampled.heights, sampled.observed, codingParameters(p, std::max(k, 1)));
+    if (k == 0) {
+      at_k.coefficients.setZero();  // the means alone
+      codes.means = at_k.means;
+    }
+    const Eigen::MatrixXd decoded = dictionary.decode(at_k);
+    for (Eigen::Index q = 0; q < count; ++q) {
+      double error = 0.0;
+      for (Eigen::Index r = 0; r < decoded.rows(); ++r)
+        if (sampled.observed(r, q))
+          error += (decoded(r, q) - sampled.heights(r, q)) * (decoded(r, q) - sampled.heights(r, q));
+      cost(k, q) = error + lambda * k;
+    }
+    path.push_back(std::move(at_k.coefficients));
+  }
+  std::vector<Eigen::Triplet<double, std::int64_t>> entries;
+  for (Eigen::Index q = 0; q < count; ++q) {
+    Eigen::Index best = 0;
+    cost.col(q).minCoeff(&best);  // the first minimum: ties keep fewer atoms
+    for (SparseCodes::InnerIterator it(path[static_cast<std::size_t>(best)], q); it; ++it)
+      entries.emplace_back(it.row(), q, it.value());
+  }
+  codes.coefficients.resize(static_cast<Eigen::Index>(dictionary.atoms().cols()), count);
+  codes.coefficients.setFromTriplets(entries.begin(), entries.end());
+  codes.coefficients.makeCompressed();
+  return codes;
 }
 
 /** Per patch: the surface height at the grid's centre (mean of the four central bins that saw
@@ -216,6 +258,8 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
     throw Error("codec: location bits must be in [4, 16]");
   if (!(p.target_error >= 0.0 && p.target_error <= 1.0))
     throw Error("codec: the target error must be in [0, 1] (quad lengths; 0: always the full coefficients)");
+  if (!(p.atom_cost >= 0.0 && p.atom_cost <= 10.0))
+    throw Error("codec: the atom cost must be in [0, 10] (squared quad lengths per atom; 0: off)");
   if (!(p.coverage_tolerance >= 0.0 && p.coverage_tolerance <= 10.0))
     throw Error("codec: the coverage tolerance must be in [0, 10] (quad lengths; 0: no coverage patches)");
   if (!(p.coverage_budget >= 0.0 && p.coverage_budget <= 10.0))
@@ -304,7 +348,9 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
   local.seconds_patches = since(t);
 
   t = Clock::now();
-  const PatchCodes codes = dictionary_->encodeMasked(sampled.heights, sampled.observed, codingParameters(p, p.coefficients));
+  const PatchCodes codes = p.atom_cost > 0.0 ? allocatedCodes(*dictionary_, sampled, p)
+                                             : dictionary_->encodeMasked(sampled.heights, sampled.observed,
+                                                                         codingParameters(p, p.coefficients));
   // The quantiser's range is the 99th percentile of |coefficient|, not the largest: one patch over
   // a sharp crease must not coarsen every other patch's step. Larger values still fit (the byte
   // planes hold 16 bits), at a step no finer than the largest value allows.

@@ -275,6 +275,7 @@ TEST(CliBadInput, OptionValuesOutOfRange)
       {"compress " + in + " --dict {}/dict16.pdd -o {}/out.pdc --coefficient-bits 40", 2, "--coefficient-bits"},
       {"compress " + in + " --dict {}/dict16.pdd -o {}/out.pdc --position-bits 99", 2, "--position-bits"},
       {"compress " + in + " --dict {}/dict16.pdd -o {}/out.pdc --coefficients 0", 2, "--coefficients"},
+      {"compress " + in + " --dict {}/dict16.pdd -o {}/out.pdc --atom-cost -1", 2, "--atom-cost"},
       {"learn {}/absent.pds -o {}/out.pdd --atoms 0", 2, "--atoms"},
       {"learn {}/absent.pds -o {}/out.pdd --method magic", 2, "--method"},
       {"denoise " + in, 2, "-o"},
