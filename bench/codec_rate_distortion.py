@@ -11,7 +11,7 @@
    of the decoded mesh (200k samples each way, as the harness does). Each L with five settings
    (VARIANTS): the defaults; an error target of 0.025 L (`--target-error`: at most 20 non-zeros, fewer
    where a patch is already coded that well); one price per atom, 0.02 L² and 0.08 L² (`--atom-cost`:
-   each patch keeps the atoms that lower its squared error by more than the price); and no coverage
+   each patch keeps the number of atoms that minimises its squared error plus the price per atom); and no coverage
    patches (`--coverage-tolerance 0`).
 3. Draco (`draco_encoder -cl 7 -qp Q`, Q in --draco-bits) on the same meshes, decoded by
    `draco_decoder` and scored by `pcl_patchdict eval` (the same PSNR).

@@ -10,6 +10,8 @@
 #include <pcl_patchdict/quad_remesher.h>
 #include <pcl_patchdict/reference_frame.h>
 
+#include <omp.h>
+
 #include "codec_coverage.h"
 #include "pdc_format.h"
 #include "pdc_surface.h"
@@ -17,6 +19,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -52,40 +55,53 @@ SparseCodingParameters codingParameters(const PatchCodecParameters& p, int atoms
 
 /** Every patch coded with its first k atoms, k chosen per patch by one price per atom (a Lagrangian
   * allocation: Everett 1963; Shoham & Gersho 1988): k ≤ `coefficients` minimises E_k + λ k, with
-  * E_k the summed squared error of the patch's observed bins after OMP's first k atoms and
-  * λ = atom_cost × L². OMP is greedy, so the code of k atoms is the prefix of the longer codes: the
-  * path is the codes of max_atoms = 0 … coefficients. */
+  * E_k the summed squared error of the patch's observed bins coded with at most k atoms and
+  * λ = atom_cost × L². The candidates are the codes of max_atoms = 1 … coefficients (and the mean
+  * alone); OMP is greedy, so each is, up to rounding, the longer one's first atoms re-fitted. Each
+  * patch keeps only its best candidate so far: no dense decode, no stored path. */
 PatchCodes allocatedCodes(const PatchDictionary& dictionary, const PatchSet& sampled, const PatchCodecParameters& p)
 {
+  using Entry = std::pair<std::int64_t, double>;
   const double lambda = p.atom_cost * p.quad_length * p.quad_length;
-  const Eigen::Index count = sampled.heights.cols();
+  const Eigen::MatrixXd& atoms = dictionary.atoms();
+  const Eigen::Index count = sampled.heights.cols(), bins = sampled.heights.rows();
+  std::vector<double> best_cost(static_cast<std::size_t>(count), std::numeric_limits<double>::infinity());
+  std::vector<std::vector<Entry>> best_code(static_cast<std::size_t>(count));
   PatchCodes codes;
-  std::vector<SparseCodes> path;
-  Eigen::MatrixXd cost(p.coefficients + 1, count);
-  for (int k = 0; k <= p.coefficients; ++k) {
-    PatchCodes at_k = dictionary.encodeMasked(sampled.heights, sampled.observed, codingParameters(p, std::max(k, 1)));
-    if (k == 0) {
-      at_k.coefficients.setZero();  // the means alone
-      codes.means = at_k.means;
-    }
-    const Eigen::MatrixXd decoded = dictionary.decode(at_k);
+  for (int k = 1; k <= p.coefficients; ++k) {
+    const PatchCodes at_k = dictionary.encodeMasked(sampled.heights, sampled.observed, codingParameters(p, k));
+    if (k == 1)
+      codes.means = at_k.means;  // the same for every k
+#pragma omp parallel for schedule(static) num_threads(p.num_threads > 0 ? p.num_threads : omp_get_max_threads())
     for (Eigen::Index q = 0; q < count; ++q) {
-      double error = 0.0;
-      for (Eigen::Index r = 0; r < decoded.rows(); ++r)
-        if (sampled.observed(r, q))
-          error += (decoded(r, q) - sampled.heights(r, q)) * (decoded(r, q) - sampled.heights(r, q));
-      cost(k, q) = error + lambda * k;
+      Eigen::VectorXd residual = sampled.heights.col(q).array() - (codes.means.size() ? codes.means[q] : 0.0);
+      const auto observedError = [&] {
+        double error = 0.0;
+        for (Eigen::Index r = 0; r < bins; ++r)
+          if (sampled.observed(r, q))
+            error += residual[r] * residual[r];
+        return error;
+      };
+      const auto i = static_cast<std::size_t>(q);
+      if (k == 1)
+        best_cost[i] = observedError();  // the mean alone: k = 0
+      std::vector<Entry> code;
+      for (SparseCodes::InnerIterator it(at_k.coefficients, q); it; ++it) {
+        residual -= it.value() * atoms.col(it.row());
+        code.emplace_back(it.row(), it.value());
+      }
+      const double cost = observedError() + lambda * static_cast<double>(k);
+      if (cost < best_cost[i]) {  // strictly: a tie keeps fewer atoms
+        best_cost[i] = cost;
+        best_code[i] = std::move(code);
+      }
     }
-    path.push_back(std::move(at_k.coefficients));
   }
+  codes.coefficients.resize(atoms.cols(), count);
   std::vector<Eigen::Triplet<double, std::int64_t>> entries;
-  for (Eigen::Index q = 0; q < count; ++q) {
-    Eigen::Index best = 0;
-    cost.col(q).minCoeff(&best);  // the first minimum: ties keep fewer atoms
-    for (SparseCodes::InnerIterator it(path[static_cast<std::size_t>(best)], q); it; ++it)
-      entries.emplace_back(it.row(), q, it.value());
-  }
-  codes.coefficients.resize(static_cast<Eigen::Index>(dictionary.atoms().cols()), count);
+  for (Eigen::Index q = 0; q < count; ++q)
+    for (const auto& [atom, value] : best_code[static_cast<std::size_t>(q)])
+      entries.emplace_back(atom, q, value);
   codes.coefficients.setFromTriplets(entries.begin(), entries.end());
   codes.coefficients.makeCompressed();
   return codes;
