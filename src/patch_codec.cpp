@@ -58,27 +58,33 @@ SparseCodingParameters codingParameters(const PatchCodecParameters& p, int atoms
   * E_k the summed squared error of the patch's observed bins coded with at most k atoms and
   * λ = atom_cost × L². The candidates are the codes of max_atoms = 1 … coefficients (and the mean
   * alone); OMP is greedy, so each is, up to rounding, the longer one's first atoms re-fitted. Each
-  * patch keeps only its best candidate so far: no dense decode, no stored path. */
-PatchCodes allocatedCodes(const PatchDictionary& dictionary, const PatchSet& sampled, const PatchCodecParameters& p)
+  * patch keeps only its best candidate so far: no dense decode, no stored path. `caps` (empty:
+  * `coefficients` for all) bounds each patch's k. */
+PatchCodes allocatedCodes(const PatchDictionary& dictionary, const Eigen::MatrixXd& heights,
+                          const ObservationMask& observed, const PatchCodecParameters& p, const std::vector<int>& caps = {})
 {
   using Entry = std::pair<std::int64_t, double>;
   const double lambda = p.atom_cost * p.quad_length * p.quad_length;
   const Eigen::MatrixXd& atoms = dictionary.atoms();
-  const Eigen::Index count = sampled.heights.cols(), bins = sampled.heights.rows();
+  const Eigen::Index count = heights.cols(), bins = heights.rows();
+  const auto cap = [&](Eigen::Index q) { return caps.empty() ? p.coefficients : caps[static_cast<std::size_t>(q)]; };
+  const int largest = caps.empty() ? p.coefficients : *std::max_element(caps.begin(), caps.end());
   std::vector<double> best_cost(static_cast<std::size_t>(count), std::numeric_limits<double>::infinity());
   std::vector<std::vector<Entry>> best_code(static_cast<std::size_t>(count));
   PatchCodes codes;
-  for (int k = 1; k <= p.coefficients; ++k) {
-    const PatchCodes at_k = dictionary.encodeMasked(sampled.heights, sampled.observed, codingParameters(p, k));
+  for (int k = 1; k <= largest; ++k) {
+    const PatchCodes at_k = dictionary.encodeMasked(heights, observed, codingParameters(p, k));
     if (k == 1)
       codes.means = at_k.means;  // the same for every k
 #pragma omp parallel for schedule(static) num_threads(p.num_threads > 0 ? p.num_threads : omp_get_max_threads())
     for (Eigen::Index q = 0; q < count; ++q) {
-      Eigen::VectorXd residual = sampled.heights.col(q).array() - (codes.means.size() ? codes.means[q] : 0.0);
+      if (k > cap(q))
+        continue;
+      Eigen::VectorXd residual = heights.col(q).array() - (codes.means.size() ? codes.means[q] : 0.0);
       const auto observedError = [&] {
         double error = 0.0;
         for (Eigen::Index r = 0; r < bins; ++r)
-          if (sampled.observed(r, q))
+          if (observed(r, q))
             error += residual[r] * residual[r];
         return error;
       };
@@ -216,12 +222,17 @@ void addCoveragePatches(const TriangleMesh& surface, const PatchDictionary& dict
   }
   const auto quad_patches = static_cast<Eigen::Index>(c.atoms.size());
   // A piece of a few bins needs fewer atoms than a whole patch (and more atoms than a quarter of
-  // its bins would only fit their noise): the codes' budget follows the bins kept.
-  for (Eigen::Index k = 0; k < count; ++k) {
-    const auto kept = static_cast<int>(mask.col(k).count());
-    const int atoms = std::clamp(kept / 4, 1, p.coefficients);
-    appendQuantisedCodes(dictionary.encodeMasked(heights.col(k), mask.col(k), codingParameters(p, atoms)), c);
-  }
+  // its bins would only fit their noise): the codes' budget follows the bins kept. With a price per
+  // atom, that budget is each piece's cap and the price chooses below it, as for the quad patches.
+  std::vector<int> caps(static_cast<std::size_t>(count));
+  for (Eigen::Index k = 0; k < count; ++k)
+    caps[static_cast<std::size_t>(k)] = std::clamp(static_cast<int>(mask.col(k).count()) / 4, 1, p.coefficients);
+  if (p.atom_cost > 0.0)
+    appendQuantisedCodes(allocatedCodes(dictionary, heights, mask, p, caps), c);
+  else
+    for (Eigen::Index k = 0; k < count; ++k)
+      appendQuantisedCodes(
+          dictionary.encodeMasked(heights.col(k), mask.col(k), codingParameters(p, caps[static_cast<std::size_t>(k)])), c);
   if (c.observed.size() == 0)
     c.observed = ObservationMask::Constant(static_cast<Eigen::Index>(bins), quad_patches, true);
   c.observed.conservativeResize(Eigen::NoChange, quad_patches + count);
@@ -364,7 +375,7 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
   local.seconds_patches = since(t);
 
   t = Clock::now();
-  const PatchCodes codes = p.atom_cost > 0.0 ? allocatedCodes(*dictionary_, sampled, p)
+  const PatchCodes codes = p.atom_cost > 0.0 ? allocatedCodes(*dictionary_, sampled.heights, sampled.observed, p)
                                              : dictionary_->encodeMasked(sampled.heights, sampled.observed,
                                                                          codingParameters(p, p.coefficients));
   // The quantiser's range is the 99th percentile of |coefficient|, not the largest: one patch over

@@ -304,7 +304,7 @@ TEST(PatchCodec, OnePricePerAtomBeatsAPerPatchErrorTarget)
 {
   // The Lagrangian allocation (atom_cost) spends atoms where they remove the most error; against
   // the per-patch error target at no more non-zeros, the patches' own error is lower. Quad patches
-  // only: coverage patches take their atoms by their own rule.
+  // first (coverage off), then the coverage pieces.
   const TriangleMesh bunny = loadBunny();
   PatchCodec codec;
   codec.setDictionary(bunnyDictionary());
@@ -349,6 +349,18 @@ TEST(PatchCodec, OnePricePerAtomBeatsAPerPatchErrorTarget)
   EXPECT_EQ(free_report.nonzeros, full_report.nonzeros);
   EXPECT_DOUBLE_EQ(free_report.patch_rmse, full_report.patch_rmse);
   EXPECT_LT(prohibitive_report.nonzeros, full_report.nonzeros / 100);
+  // The price chooses the coverage patches' atoms too, below their own caps (a quarter of their bins).
+  parameters.coverage_tolerance = PatchCodecParameters().coverage_tolerance;
+  const PatchCodec::Report covered_report = encodeWith(0.0, 0.0);
+  const PatchCodec::Report covered_dearer_report = encodeWith(0.0, 0.012);
+  ASSERT_GT(covered_report.coverage_patches, 0u);
+  ASSERT_GT(covered_dearer_report.coverage_patches, 0u);
+  const double per_piece = double(covered_report.nonzeros - full_report.nonzeros) / covered_report.coverage_patches;
+  const double per_piece_dearer =
+      double(covered_dearer_report.nonzeros - dearer_report.nonzeros) / covered_dearer_report.coverage_patches;
+  std::printf("coverage patches: %zu at %.1f non-zeros each, at 0.012 L²: %zu at %.1f\n", covered_report.coverage_patches,
+              per_piece, covered_dearer_report.coverage_patches, per_piece_dearer);
+  EXPECT_LT(per_piece_dearer, 0.75 * per_piece);  // measured 17 pieces at 7.4, 19 at 1.9
   parameters.atom_cost = -1.0;
   codec.setParameters(parameters);
   EXPECT_THROW(codec.encode(bunny), Error);

@@ -24,12 +24,13 @@ struct PatchCodecParameters {
     * paper's Table 1 stores ~19 entities per patch, quad mesh included, so its patches too used
     * fewer than 20 on average. */
   double target_error = 0.0;
-  /** Rate–distortion allocation of atoms across the quad patches: each keeps the code of k ≤
-    * `coefficients` atoms (OMP with at most k) that minimises E_k + atom_cost × L² × k, where E_k
-    * is the summed squared error of its observed bins (0: off). One price for every patch puts the
-    * atoms where they remove the most error; at equal entities it measured 0.4–1 dB above
-    * `target_error` on max_planck (L 0.12). Both may be set: the error target then also ends each
-    * code early. Coverage patches keep their own rule. */
+  /** Rate–distortion allocation of atoms across patches: each keeps the code of k ≤ its cap atoms
+    * (OMP with at most k) that minimises E_k + atom_cost × L² × k, where E_k is the summed squared
+    * error of its observed bins (0: off). The cap is `coefficients` for quad patches and a quarter
+    * of the kept bins for coverage patches. One price for every patch puts the atoms where they
+    * remove the most error; at equal entities it measured 0.4–1 dB above `target_error` on
+    * max_planck (L 0.12, quad patches). Both may be set: the error target then also ends each code
+    * early. */
   double atom_cost = 0.0;
   int coefficient_bits = 6;   ///< uniform quantiser: the 99th percentile of |coefficient| maps to 2^(bits−1) − 1
   int position_bits = 10;     ///< quad-mesh vertex grid over the unit cube (seed offsets absorb its error)
