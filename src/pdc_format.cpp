@@ -3,6 +3,7 @@
 
 #include "binary_format.h"
 #include "byte_stream.h"
+#include "mask_coding.h"
 
 #include <pcl_patchdict/error.h>
 #include <pcl_patchdict/patch_dictionary.h>
@@ -18,8 +19,10 @@ namespace detail {
 namespace {
 
 constexpr char kMagic[4] = {'P', 'D', 'C', 'v'};
-// Version 2 added the coverage section (patches with stored frames).
-constexpr std::uint32_t kVersion = 2;
+// Version 2 added the coverage section (patches with stored frames); version 3 codes the masks'
+// bins with a context-modelled range coder (mask_coding.h) instead of deflated bitmaps. This build
+// writes version 3 and reads 2 and 3.
+constexpr std::uint32_t kVersion = 3, kOldestVersion = 2;
 constexpr std::uint32_t kFlagRemoveMean = 1, kFlagKeepConnectivity = 2;
 
 std::size_t bitmapBytes(std::size_t bits) { return (bits + 7) / 8; }
@@ -148,17 +151,20 @@ std::string writePdc(const PdcContent& c, PdcSizes* sizes)
     const bool full = c.observed.size() == 0 || c.observed.col(static_cast<Eigen::Index>(p)).all();
     masks.putU8(full ? 0 : 1);
   }
+  std::vector<std::vector<char>> partial;
   if (c.observed.size() != 0)
     for (std::size_t p = 0; p < patches; ++p) {
       const auto column = c.observed.col(static_cast<Eigen::Index>(p));
       if (column.all())
         continue;
-      std::string bitmap(bitmapBytes(bins), '\0');
+      partial.emplace_back(bins);
       for (std::size_t b = 0; b < bins; ++b)
-        if (column(static_cast<Eigen::Index>(b)))
-          bitmap[b / 8] = static_cast<char>(bitmap[b / 8] | (1 << (b % 8)));
-      masks.putRaw(bitmap.data(), bitmap.size());
+        partial.back()[b] = column(static_cast<Eigen::Index>(b)) ? 1 : 0;
     }
+  if (!partial.empty()) {
+    const std::string coded = encodeMasks(partial, static_cast<int>(c.grid_size));
+    masks.putRaw(coded.data(), coded.size());
+  }
   putSection(out, masks.bytes(), &local.masks);
 
   // Faces: the first corner against the previous face's, the others against the first (meshes
@@ -216,9 +222,9 @@ PdcContent readPdc(const std::string& bytes, const std::string& what)
   char magic[4];
   in.getRaw(magic, 4);
   const std::uint32_t version = in.getU32();
-  if (version != kVersion)
-    throw Error(what + "format version " + std::to_string(version) + " (this build reads version " +
-                std::to_string(kVersion) + ")");
+  if (version < kOldestVersion || version > kVersion)
+    throw Error(what + "format version " + std::to_string(version) + " (this build reads versions " +
+                std::to_string(kOldestVersion) + " to " + std::to_string(kVersion) + ")");
   std::uint64_t stored;
   std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
   if (fnv1a64(bytes.data(), bytes.size() - 8) != stored)
@@ -363,9 +369,21 @@ PdcContent readPdc(const std::string& bytes, const std::string& what)
       masked += static_cast<std::size_t>(raw[p]);
     }
     const std::size_t row = bitmapBytes(bins);
-    if (raw.size() != patches + masked * row)
+    if (version >= 3 && masked) {
+      std::vector<std::vector<char>> partial;
+      if (!decodeMasks(raw.substr(patches), masked, static_cast<int>(c.grid_size), partial))
+        throw Error(what + "mask section too short (the file is corrupted)");
+      c.observed = ObservationMask::Constant(static_cast<Eigen::Index>(bins), static_cast<Eigen::Index>(patches), true);
+      std::size_t next = 0;
+      for (std::size_t p = 0; p < patches; ++p)
+        if (raw[p]) {
+          for (std::size_t b = 0; b < bins; ++b)
+            c.observed(static_cast<Eigen::Index>(b), static_cast<Eigen::Index>(p)) = partial[next][b] != 0;
+          ++next;
+        }
+    } else if (version >= 3 ? raw.size() != patches : raw.size() != patches + masked * row) {
       throw Error(what + "mask section has the wrong size (the file is corrupted)");
-    if (masked) {
+    } else if (masked) {
       c.observed = ObservationMask::Constant(static_cast<Eigen::Index>(bins), static_cast<Eigen::Index>(patches), true);
       std::size_t offset = patches;
       for (std::size_t p = 0; p < patches; ++p) {

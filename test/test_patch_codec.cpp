@@ -23,6 +23,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 
 using namespace pcl::patchdict;
 using test_support::q;
@@ -671,4 +673,37 @@ TEST(PatchCodec, RefusesDecompressionBombs)
     EXPECT_NE(std::string(e.what()).find("implausible header"), std::string::npos) << e.what();
   }
   EXPECT_TRUE(bomb.vertices.empty());
+}
+
+TEST(PatchCodec, ReadsFormatVersion2AndRefusesOtherVersions)
+{
+  // Version 3 changed only how the masks' bins are coded; version-2 files (deflated bitmaps) still
+  // decode — the fuzz corpus's sphere with a coverage patch, written by the version-2 encoder,
+  // gives what that build decoded (510 vertices, 1000 faces, one coverage piece of 8 faces).
+  const std::string source = PCL_PATCHDICT_TEST_DATA_DIR "/../../fuzz/";
+  PatchCodec codec;
+  codec.setDictionary(PatchDictionary::load(source + "pdc_dictionary.pdd"));
+  std::ifstream file(source + "corpus/pdc/sphere_pin_coverage.pdc", std::ios::binary);
+  const std::string version2((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(version2.substr(0, 5), std::string("PDCv\x02"));
+  TriangleMesh decoded;
+  PatchCodec::Report report;
+  codec.decode(version2, decoded, &report);
+  EXPECT_EQ(decoded.vertices.size(), 510u);
+  EXPECT_EQ(decoded.faces.size(), 1000u);
+  EXPECT_EQ(report.coverage_patches, 1u);
+  EXPECT_EQ(report.coverage_faces, 8u);
+  // The same bytes claiming versions 1 and 4 (valid checksums): refused by version.
+  for (const std::uint32_t version : {1u, 4u}) {
+    std::string crafted = version2.substr(0, version2.size() - 8);
+    std::memcpy(&crafted[4], &version, 4);
+    const std::uint64_t sum = fnv1a64(crafted.data(), crafted.size());
+    crafted.append(reinterpret_cast<const char*>(&sum), 8);
+    try {
+      codec.decode(crafted, decoded);
+      ADD_FAILURE() << "decoded a version-" << version << " file";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("format version " + std::to_string(version)), std::string::npos) << e.what();
+    }
+  }
 }
