@@ -1,4 +1,4 @@
-// Context-modelled binary arithmetic coding of N×N observation masks for the .pdc format.
+// Context-modelled binary arithmetic coding of N×N observation masks for the .pdc format (v3).
 #pragma once
 
 #include <cstddef>

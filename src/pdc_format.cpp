@@ -4,6 +4,7 @@
 #include "binary_format.h"
 #include "byte_stream.h"
 #include "mask_coding.h"
+#include "sparse_code_coding.h"
 
 #include <pcl_patchdict/error.h>
 #include <pcl_patchdict/patch_dictionary.h>
@@ -20,10 +21,15 @@ namespace {
 
 constexpr char kMagic[4] = {'P', 'D', 'C', 'v'};
 // Version 2 added the coverage section (patches with stored frames); version 3 codes the masks'
-// bins with a context-modelled range coder (mask_coding.h) instead of deflated bitmaps. This build
-// writes version 3 and reads 2 and 3.
+// bins, the atom sets and the coefficients with an adaptive range coder (mask_coding.h,
+// sparse_code_coding.h) instead of deflated bitmaps and byte planes. This build writes version 3
+// and reads 2 and 3.
 constexpr std::uint32_t kVersion = 3, kOldestVersion = 2;
 constexpr std::uint32_t kFlagRemoveMean = 1, kFlagKeepConnectivity = 2;
+// Version 3's range-coded sections cost the reader a few binary decisions per stored bit and can
+// stand for far more decisions than bytes: a file may ask for at most this many (atom decisions =
+// patches × atoms, mask decisions = masked patches × bins); lucy at L 0.045 asks for 77k and 92k.
+constexpr std::uint64_t kMaxCodedDecisions = std::uint64_t(1) << 26;
 
 std::size_t bitmapBytes(std::size_t bits) { return (bits + 7) / 8; }
 
@@ -122,24 +128,8 @@ std::string writePdc(const PdcContent& c, PdcSizes* sizes)
     offsets.putSigned(o);
   putSection(out, offsets.bytes(), &local.offsets);
 
-  ByteWriter atoms;
-  for (const auto& list : c.atoms) {
-    std::string bitmap(bitmapBytes(c.num_atoms), '\0');
-    for (const std::uint32_t a : list)
-      bitmap[a / 8] = static_cast<char>(bitmap[a / 8] | (1 << (a % 8)));
-    atoms.putRaw(bitmap.data(), bitmap.size());
-  }
-  putSection(out, atoms.bytes(), &local.atoms);
-
-  // Zigzag values as two byte planes: the high plane is almost all zeros and packs to nothing.
-  std::string low, high;
-  for (const auto& list : c.values)
-    for (const std::int32_t v : list) {
-      const std::uint32_t z = (static_cast<std::uint32_t>(v) << 1) ^ static_cast<std::uint32_t>(v >> 31);
-      low.push_back(static_cast<char>(z & 0xff));
-      high.push_back(static_cast<char>((z >> 8) & 0xff));
-    }
-  putSection(out, low + high, &local.coefficients);
+  putSection(out, encodeAtomSets(c.atoms, c.num_atoms), &local.atoms);
+  putSection(out, encodeCoefficients(c.values, c.atoms, c.num_atoms), &local.coefficients);
 
   ByteWriter means;
   for (const std::int64_t m : c.means)
@@ -315,7 +305,16 @@ PdcContent readPdc(const std::string& bytes, const std::string& what)
     expectEnd(section, "seed offset");
   }
   std::size_t nonzeros = 0;
-  {
+  if (version >= 3) {
+    if (static_cast<std::uint64_t>(patches) * c.num_atoms > kMaxCodedDecisions)
+      throw Error(what + "implausible header (the file is corrupted)");
+    if (!decodeAtomSets(getSection(in), patches, c.num_atoms, c.atoms))
+      throw Error(what + "atom section too short (the file is corrupted)");
+    for (const auto& list : c.atoms)
+      nonzeros += list.size();
+    if (!decodeCoefficients(getSection(in), c.atoms, c.num_atoms, c.values))
+      throw Error(what + "coefficient section too short (the file is corrupted)");
+  } else {
     const std::string raw = getSection(in);
     const std::size_t row = bitmapBytes(c.num_atoms);
     if (raw.size() != row * patches)
@@ -333,7 +332,7 @@ PdcContent readPdc(const std::string& bytes, const std::string& what)
           throw Error(what + "atom index out of range (the file is corrupted)");
     }
   }
-  {
+  if (version < 3) {
     const std::string raw = getSection(in);
     if (raw.size() != 2 * nonzeros)
       throw Error(what + "coefficient section has the wrong size (the file is corrupted)");
@@ -370,6 +369,8 @@ PdcContent readPdc(const std::string& bytes, const std::string& what)
     }
     const std::size_t row = bitmapBytes(bins);
     if (version >= 3 && masked) {
+      if (static_cast<std::uint64_t>(masked) * bins > kMaxCodedDecisions)
+        throw Error(what + "implausible mask section (the file is corrupted)");
       std::vector<std::vector<char>> partial;
       if (!decodeMasks(raw.substr(patches), masked, static_cast<int>(c.grid_size), partial))
         throw Error(what + "mask section too short (the file is corrupted)");

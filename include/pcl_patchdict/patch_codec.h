@@ -70,9 +70,10 @@ struct PatchCodecParameters {
   *
   * File: magic "PDCv", version, the dictionary's fingerprint, grid size and atom count, the
   * parameters, the normalisation, then zlib-packed sections — quad vertices (deltas), quad faces
-  * (valence + back-references), per-patch seed offsets along Z, per-patch atom sets (bitmaps), coefficients (zigzag byte planes),
+  * (valence + back-references), per-patch seed offsets along Z, per-patch atom sets, coefficients,
   * patch means (when the dictionary removes them), observation masks (patches whose grid left the
-  * surface, and coverage patches; range-coded bins since version 3), optionally the input's faces and vertex places, the coverage frames — and an FNV-1a
+  * surface, and coverage patches) — atom sets, coefficients and masks range-coded since version 3
+  * (sparse_code_coding.h, mask_coding.h) — optionally the input's faces and vertex places, the coverage frames — and an FNV-1a
   * 64 checksum.
   *
   * Decoding: the quad mesh is rebuilt, frames re-derived, patches decoded (D·codes), and the
