@@ -53,10 +53,10 @@ bool decodeMasks(const std::string& bytes, std::size_t count, int grid, std::vec
       for (int col = 0; col < grid; ++col) {
         const int bit = decoder.decode(contexts[static_cast<std::size_t>(context(mask, grid, row, col))]);
         mask[static_cast<std::size_t>(row * grid + col)] = static_cast<char>(bit);
-        if (decoder.overrun() > 4)  // the encoder's flush covers every bit it coded
+        if (decoder.overrun() > 0)  // the encoder's flush covers every bit it coded
           return false;
       }
-  return true;
+  return decoder.exhausted();
 }
 
 }  // namespace detail

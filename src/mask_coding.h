@@ -18,8 +18,7 @@ namespace detail {
 std::string encodeMasks(const std::vector<std::vector<char>>& masks, int grid);
 
 /** Decodes `count` masks of grid × grid bins from what encodeMasks wrote. Never reads past the end
-  * of `bytes` (missing bytes read as zeros, as a truncated stream would); a stream that needed
-  * more than a few such bytes is refused by returning false. */
+  * of `bytes`; false unless the stream holds exactly those masks (not cut, nothing left over). */
 bool decodeMasks(const std::string& bytes, std::size_t count, int grid, std::vector<std::vector<char>>& masks);
 
 }  // namespace detail

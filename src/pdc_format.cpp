@@ -28,7 +28,8 @@ constexpr std::uint32_t kVersion = 3, kOldestVersion = 2;
 constexpr std::uint32_t kFlagRemoveMean = 1, kFlagKeepConnectivity = 2;
 // Version 3's range-coded sections cost the reader a few binary decisions per stored bit and can
 // stand for far more decisions than bytes: a file may ask for at most this many (atom decisions =
-// patches × atoms, mask decisions = masked patches × bins); lucy at L 0.045 asks for 77k and 92k.
+// patches × atoms, mask decisions = masked patches × bins; coefficients: at most `coefficients` per
+// patch, 31 decisions each); lucy at L 0.045 asks for 77k and 92k.
 constexpr std::uint64_t kMaxCodedDecisions = std::uint64_t(1) << 26;
 
 std::size_t bitmapBytes(std::size_t bits) { return (bits + 7) / 8; }
@@ -128,6 +129,14 @@ std::string writePdc(const PdcContent& c, PdcSizes* sizes)
     offsets.putSigned(o);
   putSection(out, offsets.bytes(), &local.offsets);
 
+  // What the reader accepts (kMaxCodedDecisions): a file it would refuse is not written.
+  std::size_t masked = 0;
+  for (std::size_t p = 0; p < patches && c.observed.size() != 0; ++p)
+    masked += c.observed.col(static_cast<Eigen::Index>(p)).all() ? 0 : 1;
+  if (static_cast<std::uint64_t>(patches) * c.num_atoms > kMaxCodedDecisions ||
+      static_cast<std::uint64_t>(masked) * bins > kMaxCodedDecisions)
+    throw Error("codec: " + std::to_string(patches) + " patches of " + std::to_string(c.num_atoms) +
+                " atoms are more than a .pdc file holds (2^26 atom or mask decisions): use a larger quad length");
   putSection(out, encodeAtomSets(c.atoms, c.num_atoms), &local.atoms);
   putSection(out, encodeCoefficients(c.values, c.atoms, c.num_atoms), &local.coefficients);
 
@@ -308,12 +317,12 @@ PdcContent readPdc(const std::string& bytes, const std::string& what)
   if (version >= 3) {
     if (static_cast<std::uint64_t>(patches) * c.num_atoms > kMaxCodedDecisions)
       throw Error(what + "implausible header (the file is corrupted)");
-    if (!decodeAtomSets(getSection(in), patches, c.num_atoms, c.atoms))
-      throw Error(what + "atom section too short (the file is corrupted)");
+    if (!decodeAtomSets(getSection(in), patches, c.num_atoms, c.coefficients, c.atoms))
+      throw Error(what + "malformed atom section (the file is corrupted)");
     for (const auto& list : c.atoms)
       nonzeros += list.size();
     if (!decodeCoefficients(getSection(in), c.atoms, c.num_atoms, c.values))
-      throw Error(what + "coefficient section too short (the file is corrupted)");
+      throw Error(what + "malformed coefficient section (the file is corrupted)");
   } else {
     const std::string raw = getSection(in);
     const std::size_t row = bitmapBytes(c.num_atoms);
@@ -373,7 +382,7 @@ PdcContent readPdc(const std::string& bytes, const std::string& what)
         throw Error(what + "implausible mask section (the file is corrupted)");
       std::vector<std::vector<char>> partial;
       if (!decodeMasks(raw.substr(patches), masked, static_cast<int>(c.grid_size), partial))
-        throw Error(what + "mask section too short (the file is corrupted)");
+        throw Error(what + "malformed mask section (the file is corrupted)");
       c.observed = ObservationMask::Constant(static_cast<Eigen::Index>(bins), static_cast<Eigen::Index>(patches), true);
       std::size_t next = 0;
       for (std::size_t p = 0; p < patches; ++p)

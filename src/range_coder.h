@@ -93,6 +93,9 @@ public:
   /** Bytes read past the end (as zeros); the encoder's flush covers every bit it coded, so more
     * than a few mean the stream was cut or asked for more than it holds. */
   std::size_t overrun() const { return overrun_; }
+  /** True when the decoder read exactly the bytes the encoder wrote (its flush is read back in
+    * full, nothing is left over): a cut or padded stream is not. */
+  bool exhausted() const { return overrun_ == 0 && position_ == bytes_.size(); }
 
 private:
   std::uint32_t next()

@@ -3,6 +3,8 @@
 
 #include "range_coder.h"
 
+#include <pcl_patchdict/error.h>
+
 #include <algorithm>
 #include <cstdlib>
 
@@ -32,6 +34,9 @@ std::string encodeAtomSets(const std::vector<std::vector<std::uint32_t>>& atoms,
   RangeEncoder encoder;
   std::vector<std::uint16_t> used(num_atoms, kHalfProbability);
   for (const auto& list : atoms) {
+    for (std::size_t i = 0; i < list.size(); ++i)
+      if (list[i] >= num_atoms || (i > 0 && list[i] <= list[i - 1]))
+        throw Error("atom sets must list increasing indices below the atom count");
     std::size_t next = 0;
     for (std::uint32_t a = 0; a < num_atoms; ++a) {
       const int bit = next < list.size() && list[next] == a ? 1 : 0;
@@ -42,7 +47,7 @@ std::string encodeAtomSets(const std::vector<std::vector<std::uint32_t>>& atoms,
   return encoder.finish();
 }
 
-bool decodeAtomSets(const std::string& bytes, std::size_t patches, std::uint32_t num_atoms,
+bool decodeAtomSets(const std::string& bytes, std::size_t patches, std::uint32_t num_atoms, std::size_t max_atoms,
                     std::vector<std::vector<std::uint32_t>>& atoms)
 {
   RangeDecoder decoder(bytes);
@@ -52,10 +57,10 @@ bool decodeAtomSets(const std::string& bytes, std::size_t patches, std::uint32_t
     for (std::uint32_t a = 0; a < num_atoms; ++a)
       if (decoder.decode(used[a]))
         list.push_back(a);
-    if (decoder.overrun() > 4)
+    if (decoder.overrun() > 0 || list.size() > max_atoms)
       return false;
   }
-  return true;
+  return decoder.exhausted();
 }
 
 std::string encodeCoefficients(const std::vector<std::vector<std::int32_t>>& values,
@@ -63,10 +68,16 @@ std::string encodeCoefficients(const std::vector<std::vector<std::int32_t>>& val
 {
   RangeEncoder encoder;
   CoefficientContexts contexts(num_atoms);
-  for (std::size_t p = 0; p < values.size(); ++p)
+  if (values.size() != atoms.size())
+    throw Error("coefficients and atom sets differ in length");
+  for (std::size_t p = 0; p < values.size(); ++p) {
+    if (values[p].size() != atoms[p].size())
+      throw Error("a patch has another number of coefficients than atoms");
     for (std::size_t i = 0; i < values[p].size(); ++i) {
       const std::int32_t v = values[p][i];
-      const auto code = static_cast<std::uint32_t>(std::min(std::abs(v), 32767)) + 1;
+      if (v == 0 || v > 32767 || v < -32767)
+        throw Error("coefficients must be non-zero and within ±32767");
+      const auto code = static_cast<std::uint32_t>(v < 0 ? -v : v) + 1;
       int length = 0;
       while ((code >> (length + 1)) != 0)
         ++length;
@@ -77,9 +88,9 @@ std::string encodeCoefficients(const std::vector<std::vector<std::int32_t>>& val
       }
       for (int k = length - 1; k >= 0; --k)
         encoder.encode(contexts.mantissa[static_cast<std::size_t>(length * kLengthBits + k)], (code >> k) & 1);
-      if (v != 0)
-        encoder.encode(contexts.sign[atoms[p][i]], v < 0 ? 1 : 0);
+      encoder.encode(contexts.sign[atoms[p][i]], v < 0 ? 1 : 0);
     }
+  }
   return encoder.finish();
 }
 
@@ -99,16 +110,16 @@ bool decodeCoefficients(const std::string& bytes, const std::vector<std::vector<
         code = (code << 1) |
                static_cast<std::uint32_t>(decoder.decode(contexts.mantissa[static_cast<std::size_t>(length * kLengthBits + k)]));
       auto v = static_cast<std::int32_t>(code - 1);
-      if (v > 32767)
+      if (v == 0 || v > 32767)  // the codec stores non-zeros within ±32767 only
         return false;
-      if (v != 0 && decoder.decode(contexts.sign[atom]))
+      if (decoder.decode(contexts.sign[atom]))
         v = -v;
       values[p].push_back(v);
     }
-    if (decoder.overrun() > 4)
+    if (decoder.overrun() > 0)
       return false;
   }
-  return true;
+  return decoder.exhausted();
 }
 
 }  // namespace detail

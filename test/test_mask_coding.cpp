@@ -90,6 +90,10 @@ TEST(MaskCoding, ATruncatedStreamIsRefusedNotOverread)
   std::vector<std::vector<char>> decoded;
   EXPECT_FALSE(decodeMasks(coded.substr(0, coded.size() / 2), masks.size(), 16, decoded));
   EXPECT_FALSE(decodeMasks(std::string(), masks.size(), 16, decoded));
-  // Asking for more masks than were coded runs out of stream as well.
+  // Asking for more masks than were coded runs out of stream as well; one byte short or over is
+  // refused too.
   EXPECT_FALSE(decodeMasks(coded, 4 * masks.size(), 16, decoded));
+  EXPECT_FALSE(decodeMasks(coded.substr(0, coded.size() - 1), masks.size(), 16, decoded));
+  EXPECT_FALSE(decodeMasks(coded + '\x5a', masks.size(), 16, decoded));
+  EXPECT_TRUE(decodeMasks(coded, masks.size(), 16, decoded));
 }

@@ -677,9 +677,11 @@ TEST(PatchCodec, RefusesDecompressionBombs)
 
 TEST(PatchCodec, ReadsFormatVersion2AndRefusesOtherVersions)
 {
-  // Version 3 changed only how the masks' bins are coded; version-2 files (deflated bitmaps) still
-  // decode — the fuzz corpus's sphere with a coverage patch, written by the version-2 encoder,
-  // gives what that build decoded (510 vertices, 1000 faces, one coverage piece of 8 faces).
+  // Version 3 changed only how atom sets, coefficients and masks are coded; version-2 files
+  // (deflated bitmaps and byte planes) still decode — the fuzz corpus's sphere with a coverage
+  // patch, written by the version-2 encoder, gives what that build decoded (510 vertices, 1000
+  // faces, one coverage piece of 8 faces, coordinates summing to (8.16671418, -0.06448679,
+  // -0.33471924), |coordinates| to 765.2799970).
   const std::string source = PCL_PATCHDICT_TEST_DATA_DIR "/../../fuzz/";
   PatchCodec codec;
   codec.setDictionary(PatchDictionary::load(source + "pdc_dictionary.pdd"));
@@ -693,6 +695,16 @@ TEST(PatchCodec, ReadsFormatVersion2AndRefusesOtherVersions)
   EXPECT_EQ(decoded.faces.size(), 1000u);
   EXPECT_EQ(report.coverage_patches, 1u);
   EXPECT_EQ(report.coverage_faces, 8u);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  double absolute = 0.0;
+  for (const auto& v : decoded.vertices) {
+    sum += v;
+    absolute += v.cwiseAbs().sum();
+  }
+  EXPECT_NEAR(sum.x(), 8.16671418, 1e-7);
+  EXPECT_NEAR(sum.y(), -0.06448679, 1e-7);
+  EXPECT_NEAR(sum.z(), -0.33471924, 1e-7);
+  EXPECT_NEAR(absolute, 765.2799970, 1e-6);
   // The same bytes claiming versions 1 and 4 (valid checksums): refused by version.
   for (const std::uint32_t version : {1u, 4u}) {
     std::string crafted = version2.substr(0, version2.size() - 8);

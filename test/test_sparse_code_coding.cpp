@@ -3,11 +3,14 @@
 // shaped like the codec's, and cut streams refused.
 #include "../src/sparse_code_coding.h"
 
+#include <pcl_patchdict/error.h>
+
 #include <gtest/gtest.h>
 
 #include <zlib.h>
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <random>
 #include <string>
@@ -78,7 +81,7 @@ TEST(SparseCodeCoding, RoundTripsAtomSetsAndCoefficients)
   const std::string values = encodeCoefficients(codes.values, codes.atoms, 100);
   std::vector<std::vector<std::uint32_t>> atoms_back;
   std::vector<std::vector<std::int32_t>> values_back;
-  ASSERT_TRUE(decodeAtomSets(atoms, codes.atoms.size(), 100, atoms_back));
+  ASSERT_TRUE(decodeAtomSets(atoms, codes.atoms.size(), 100, 20, atoms_back));
   EXPECT_EQ(atoms_back, codes.atoms);
   ASSERT_TRUE(decodeCoefficients(values, atoms_back, 100, values_back));
   EXPECT_EQ(values_back, codes.values);
@@ -116,7 +119,29 @@ TEST(SparseCodeCoding, CutStreamsAreRefused)
   const std::string values = encodeCoefficients(codes.values, codes.atoms, 100);
   std::vector<std::vector<std::uint32_t>> atoms_back;
   std::vector<std::vector<std::int32_t>> values_back;
-  EXPECT_FALSE(decodeAtomSets(atoms.substr(0, atoms.size() / 2), codes.atoms.size(), 100, atoms_back));
-  EXPECT_FALSE(decodeAtomSets(std::string(), codes.atoms.size(), 100, atoms_back));
+  EXPECT_FALSE(decodeAtomSets(atoms.substr(0, atoms.size() / 2), codes.atoms.size(), 100, 20, atoms_back));
+  EXPECT_FALSE(decodeAtomSets(std::string(), codes.atoms.size(), 100, 20, atoms_back));
   EXPECT_FALSE(decodeCoefficients(values.substr(0, values.size() / 2), codes.atoms, 100, values_back));
+  // One byte short, one byte over, more patches than coded, more atoms per patch than allowed.
+  EXPECT_FALSE(decodeAtomSets(atoms.substr(0, atoms.size() - 1), codes.atoms.size(), 100, 20, atoms_back));
+  EXPECT_FALSE(decodeAtomSets(atoms + '\x5a', codes.atoms.size(), 100, 20, atoms_back));
+  EXPECT_FALSE(decodeAtomSets(atoms, codes.atoms.size() + 50, 100, 20, atoms_back));
+  EXPECT_FALSE(decodeAtomSets(atoms, codes.atoms.size(), 100, 2, atoms_back));
+  EXPECT_FALSE(decodeCoefficients(values + '\x5a', codes.atoms, 100, values_back));
+  ASSERT_TRUE(decodeAtomSets(atoms, codes.atoms.size(), 100, 20, atoms_back));
+  ASSERT_TRUE(decodeCoefficients(values, codes.atoms, 100, values_back));
+  EXPECT_EQ(values_back, codes.values);
+}
+
+TEST(SparseCodeCoding, TheEncoderRefusesWhatTheFormatCannotHold)
+{
+  const std::vector<std::vector<std::uint32_t>> atoms{{3, 7}};
+  EXPECT_THROW(encodeAtomSets({{7, 3}}, 100), pcl::patchdict::Error);
+  EXPECT_THROW(encodeAtomSets({{3, 3}}, 100), pcl::patchdict::Error);
+  EXPECT_THROW(encodeAtomSets({{100}}, 100), pcl::patchdict::Error);
+  EXPECT_THROW(encodeCoefficients({{1, 0}}, atoms, 100), pcl::patchdict::Error);
+  EXPECT_THROW(encodeCoefficients({{1, 32768}}, atoms, 100), pcl::patchdict::Error);
+  EXPECT_THROW(encodeCoefficients({{1, std::numeric_limits<std::int32_t>::min()}}, atoms, 100), pcl::patchdict::Error);
+  EXPECT_THROW(encodeCoefficients({{1}}, atoms, 100), pcl::patchdict::Error);
+  EXPECT_NO_THROW(encodeCoefficients({{-32767, 32767}}, atoms, 100));
 }
