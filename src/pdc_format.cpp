@@ -129,12 +129,21 @@ std::string writePdc(const PdcContent& c, PdcSizes* sizes)
     offsets.putSigned(o);
   putSection(out, offsets.bytes(), &local.offsets);
 
+  // The masks of the patches not fully observed (flag 1), gathered once for the check and the section.
+  std::string mask_flags(patches, '\0');
+  std::vector<std::vector<char>> partial;
+  for (std::size_t p = 0; p < patches && c.observed.size() != 0; ++p) {
+    const auto column = c.observed.col(static_cast<Eigen::Index>(p));
+    if (column.all())
+      continue;
+    mask_flags[p] = 1;
+    partial.emplace_back(bins);
+    for (std::size_t b = 0; b < bins; ++b)
+      partial.back()[b] = column(static_cast<Eigen::Index>(b)) ? 1 : 0;
+  }
   // What the reader accepts (kMaxCodedDecisions): a file it would refuse is not written.
-  std::size_t masked = 0;
-  for (std::size_t p = 0; p < patches && c.observed.size() != 0; ++p)
-    masked += c.observed.col(static_cast<Eigen::Index>(p)).all() ? 0 : 1;
   if (static_cast<std::uint64_t>(patches) * c.num_atoms > kMaxCodedDecisions ||
-      static_cast<std::uint64_t>(masked) * bins > kMaxCodedDecisions)
+      static_cast<std::uint64_t>(partial.size()) * bins > kMaxCodedDecisions)
     throw Error("codec: " + std::to_string(patches) + " patches of " + std::to_string(c.num_atoms) +
                 " atoms are more than a .pdc file holds (2^26 atom or mask decisions): use a larger quad length");
   putSection(out, encodeAtomSets(c.atoms, c.num_atoms), &local.atoms);
@@ -145,26 +154,8 @@ std::string writePdc(const PdcContent& c, PdcSizes* sizes)
     means.putSigned(m);
   putSection(out, means.bytes(), &local.means);
 
-  ByteWriter masks;
-  for (std::size_t p = 0; p < patches; ++p) {
-    const bool full = c.observed.size() == 0 || c.observed.col(static_cast<Eigen::Index>(p)).all();
-    masks.putU8(full ? 0 : 1);
-  }
-  std::vector<std::vector<char>> partial;
-  if (c.observed.size() != 0)
-    for (std::size_t p = 0; p < patches; ++p) {
-      const auto column = c.observed.col(static_cast<Eigen::Index>(p));
-      if (column.all())
-        continue;
-      partial.emplace_back(bins);
-      for (std::size_t b = 0; b < bins; ++b)
-        partial.back()[b] = column(static_cast<Eigen::Index>(b)) ? 1 : 0;
-    }
-  if (!partial.empty()) {
-    const std::string coded = encodeMasks(partial, static_cast<int>(c.grid_size));
-    masks.putRaw(coded.data(), coded.size());
-  }
-  putSection(out, masks.bytes(), &local.masks);
+  putSection(out, partial.empty() ? mask_flags : mask_flags + encodeMasks(partial, static_cast<int>(c.grid_size)),
+             &local.masks);
 
   // Faces: the first corner against the previous face's, the others against the first (meshes
   // number their vertices locally, so both differences are small).

@@ -342,7 +342,7 @@ TEST(PatchCodec, OnePricePerAtomBeatsAPerPatchErrorTarget)
   // Measured (no coverage patches): 4897 / 4714 non-zeros, patch rmse 1.006e-3 / 0.999e-3,
   // 64.60 / 64.63 dB; 0.012 L²: 3053; 1e-9 L²: 6118 = the full codes; 10 L²: 6 (a few patches
   // whose heights are that far from their mean). On this local dictionary the gain is small; with
-  // the global one on max_planck it is 0.4–1 dB at equal entities.
+  // the global one on max_planck it is 0.5–1 dB at equal entities.
   EXPECT_LE(priced_report.nonzeros, targeted_report.nonzeros);
   EXPECT_LT(priced_report.patch_rmse, targeted_report.patch_rmse);
   EXPECT_GT(d_priced.psnr, d_targeted.psnr - 0.1);

@@ -28,7 +28,7 @@ struct PatchCodecParameters {
     * (OMP with at most k) that minimises E_k + atom_cost × L² × k, where E_k is the summed squared
     * error of its observed bins (0: off). The cap is `coefficients` for quad patches and a quarter
     * of the kept bins for coverage patches. One price for every patch puts the atoms where they
-    * remove the most error; at equal entities it measured 0.4–1 dB above `target_error` on
+    * remove the most error; at equal entities it measured 0.5–1 dB above `target_error` on
     * max_planck (L 0.12, quad patches). Both may be set: the error target then also ends each code
     * early. */
   double atom_cost = 0.0;
