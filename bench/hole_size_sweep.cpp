@@ -3,7 +3,10 @@
 // punched (mesh_damage.h) and filled by Liepa alone and with patches (the defaults: the relief
 // check decides the settings); printed as CSV on stdout.
 //
-// usage: hole_size_sweep MESH... [--radii 0.01,0.02,...] [--seed S]
+// With --quad-length L the patch side is fixed (patch_scale × L, --patch-scale F, default 1) for
+// every radius, as in the paper's Fig. 8a (side 0.062); without it the side follows the holes.
+//
+// usage: hole_size_sweep MESH... [--radii 0.01,0.02,...] [--seed S] [--quad-length L [--patch-scale F]]
 // columns: mesh, radius, removed vertices, relief (0/1), prediction gain, patch side, hole
 // diameter / patch side, Liepa removed→out, patches removed→out, Liepa new→GT, patches new→GT,
 // ratio removed→out (patches / Liepa).
@@ -26,6 +29,8 @@ int main(int argc, char** argv)
   std::vector<std::string> meshes;
   std::vector<double> radii{0.01, 0.02, 0.035, 0.05, 0.07};
   std::uint64_t seed = 1;
+  double quad_length = 0.0, patch_scale = 1.0;
+  const char* usage = "usage: hole_size_sweep MESH... [--radii R1,R2,...] [--seed S] [--quad-length L [--patch-scale F]]\n";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--radii" && i + 1 < argc) {
@@ -35,15 +40,19 @@ int main(int argc, char** argv)
         radii.push_back(std::atof(item.c_str()));
     } else if (a == "--seed" && i + 1 < argc) {
       seed = std::strtoull(argv[++i], nullptr, 10);
+    } else if (a == "--quad-length" && i + 1 < argc) {
+      quad_length = std::atof(argv[++i]);
+    } else if (a == "--patch-scale" && i + 1 < argc) {
+      patch_scale = std::atof(argv[++i]);
     } else if (!a.empty() && a[0] == '-') {
-      std::fprintf(stderr, "usage: hole_size_sweep MESH... [--radii R1,R2,...] [--seed S]\n");
+      std::fprintf(stderr, "%s", usage);
       return 2;
     } else {
       meshes.push_back(a);
     }
   }
-  if (meshes.empty() || radii.empty()) {
-    std::fprintf(stderr, "usage: hole_size_sweep MESH... [--radii R1,R2,...] [--seed S]\n");
+  if (meshes.empty() || radii.empty() || !(quad_length >= 0.0) || !(patch_scale > 0.0)) {
+    std::fprintf(stderr, "%s", usage);
     return 2;
   }
   try {
@@ -65,7 +74,12 @@ int main(int argc, char** argv)
           HoleFilling filling;
           filling.setMaxHoleDiameter(6.0 * radius);  // the punched holes, not the scan's own openings
           inpainter.setHoleFilling(filling);
-          inpainter.setParameters(SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes));
+          SparsePatchInpainter::Parameters parameters =
+              SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes);
+          parameters.quad_length = quad_length;
+          if (quad_length > 0.0)
+            parameters.patch_scale = patch_scale;
+          inpainter.setParameters(parameters);
           inpainter.setUsePatches(patches == 1);
           TriangleMesh out;
           inpainter.process(out, &report);

@@ -364,7 +364,9 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
       const double relief_length = p.relief_probe_factors.front() * median_diameter;
       // The verdict is probed on the layout the smooth settings would use, when their L is
       // automatic: a smooth verdict (the scans) then costs one layout, not two.
-      const bool shared_layout = automatic_quad_length && patch_parameters.quad_length > 0.0;
+      // A quad length given by the caller is kept in both settings, with its patch side
+      // (patch_scale × L): the probe then only decides relief or smooth, on that layout.
+      const bool shared_layout = patch_parameters.quad_length > 0.0;
       const bool forced_relief = p.hole_settings == Parameters::HoleSettings::Relief;
       ReliefProbe probe;
       if (!forced_relief)
@@ -377,7 +379,16 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
       r.seconds_check_prediction = probe.seconds_prediction;
       r.relief_gain = probe.best_significant > 0.0 ? probe.best_significant : probe.best_any;
       r.relief = forced_relief || probe.best_significant >= p.relief_gain;
-      if (r.relief) {
+      if (r.relief && !automatic_quad_length) {
+        patch_parameters.overlap = p.relief_overlap;
+        patch_parameters.fit_scale = 0.0;
+        patch_parameters.agreement_scale = 0.0;
+        r.seconds_check = secondsSince(check_start);
+        if (!forced_relief) {  // the probe's layout is the caller's L: reseeded, not made again
+          reseedPatchLayout(work, p.relief_overlap, probe_layout);
+          use_probe_layout = true;
+        }
+      } else if (r.relief) {
         // Relief: quads at the smallest probe's side (0.8 d), the best probe's patch side chosen on
         // them, the relief overlap. (Choosing on the smooth settings' denser quads instead gave
         // 1 % more error on average on the harness's sole, knurl and tiles holes, knurl 0.035 +32 %.)
