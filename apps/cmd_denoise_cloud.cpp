@@ -121,9 +121,10 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
   if (fill) {
     const CloudCompletionReport& c = report.completion;
     std::snprintf(line, sizeof line,
-                  "  Poisson depth %d: %zu gaps, %zu holes filled by splines, %zu from Poisson, %zu wider than %.3g left "
-                  "open; %zu points added (lattice %.3g)",
-                  c.poisson_depth, c.gaps, c.holes_filled, c.holes_from_poisson, c.holes_too_large, max_hole_diameter,
+                  "  Poisson depth %d: %zu gaps, %zu holes filled (%zu by implicits, %zu by splines), %zu from Poisson, "
+                  "%zu wider than %.3g left open; %zu points added (lattice %.3g)",
+                  c.poisson_depth, c.gaps, c.holes_filled, c.holes_implicit, c.holes_filled - c.holes_implicit,
+                  c.holes_from_poisson, c.holes_too_large, max_hole_diameter,
                   c.points_added, c.lattice_spacing / scale);
     note(quiet, line);
   }
@@ -217,7 +218,7 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
       const CloudCompletionReport& c = report.completion;
       JsonObject holes;
       holes.add("gaps", c.gaps).add("filled", c.holes_filled).add("too_large", c.holes_too_large)
-          .add("from_poisson", c.holes_from_poisson).add("max_hole_diameter", max_hole_diameter)
+          .add("implicit", c.holes_implicit).add("from_poisson", c.holes_from_poisson).add("max_hole_diameter", max_hole_diameter)
           .add("poisson_depth", c.poisson_depth).add("poisson_faces", c.poisson_faces)
           .add("lattice_spacing", c.lattice_spacing / scale).add("density", c.density * scale * scale);
       json.add("holes", holes);

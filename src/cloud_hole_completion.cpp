@@ -1,4 +1,5 @@
 // completeCloudHoles (see cloud_hole_completion.h).
+#include <pcl_patchdict/biharmonic_implicit.h>
 #include <pcl_patchdict/cloud_hole_completion.h>
 #include <pcl_patchdict/coarse_mesh_estimation.h>
 #include <pcl_patchdict/error.h>
@@ -12,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <unordered_map>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -37,7 +39,7 @@ struct Gap {
 struct HoleFill {
   std::vector<Eigen::Vector3d> points, normals;
   std::vector<std::size_t> sources;
-  enum class Outcome { Filled, FilledFromPoisson, TooLarge } outcome = Outcome::FilledFromPoisson;
+  enum class Outcome { Filled, FilledImplicit, FilledFromPoisson, TooLarge } outcome = Outcome::FilledFromPoisson;
 };
 
 }  // namespace
@@ -181,17 +183,25 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
       fill.outcome = HoleFill::Outcome::TooLarge;
       continue;
     }
-    // Where no spline fits — a gap that is not roughly flat (a hole through folds, a cap over a
-    // tube's end), too thin a rim — the Poisson surface itself is sampled at the input's density.
+    TriangleMesh part;  // the gap's Poisson faces
+    for (const std::int32_t f : gap.faces) {
+      const Face& face = surface.faces[static_cast<std::size_t>(f)];
+      const auto base = static_cast<std::int32_t>(part.vertices.size());
+      for (int k = 0; k < 3; ++k)
+        part.vertices.push_back(surface.vertices[static_cast<std::size_t>(face[k])]);
+      part.faces.push_back(Face{base, base + 1, base + 2});
+    }
+    // The gap's faces in 3D, to find the rim: points near them (not merely near the centre: another
+    // sheet of a folded surface can pass close by).
+    auto gap_faces_3d = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+    for (const std::int32_t f : gap.faces)
+      gap_faces_3d->push_back(toPoint(centroids[static_cast<std::size_t>(f)]));
+    pcl::search::KdTree<pcl::PointXYZ> gap_tree_3d(false);
+    gap_tree_3d.setInputCloud(gap_faces_3d);
+    const double rim_reach = far_limit + parameters.rim_width * radius + 2.0 * spacing;
+    // Where no surface fits — too thin a rim, a singular system, or (height field) a gap that is
+    // not roughly flat — the Poisson surface itself is sampled at the input's density.
     const auto fill_from_poisson = [&]() {
-      TriangleMesh part;
-      for (const std::int32_t f : gap.faces) {
-        const Face& face = surface.faces[static_cast<std::size_t>(f)];
-        const auto base = static_cast<std::int32_t>(part.vertices.size());
-        for (int k = 0; k < 3; ++k)
-          part.vertices.push_back(surface.vertices[static_cast<std::size_t>(face[k])]);
-        part.faces.push_back(Face{base, base + 1, base + 2});
-      }
       const auto count = static_cast<std::size_t>(std::llround(report.density * area));
       if (count == 0)
         return;
@@ -209,6 +219,127 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
         fill.sources.push_back(static_cast<std::size_t>(nearest[0]));
       }
     };
+    // The implicit: f = 0 through the rim (every point near the gap's faces, whichever way it
+    // faces) with f = ±ε along the normals; Poisson's bridge over the gap, sampled densely, is moved
+    // onto f = 0 and thinned to the input's density.
+    const auto fill_from_implicit = [&]() -> bool {
+      pcl::Indices found;
+      std::vector<float> found_squared;
+      tree.radiusSearch(toPoint(centre), radius + rim_reach, found, found_squared);
+      std::sort(found.begin(), found.end());
+      std::vector<std::size_t> rim;
+      pcl::Indices nearest_face(1);
+      std::vector<float> nearest_squared(1);
+      for (const auto i : found)
+        if (gap_tree_3d.nearestKSearch((*positions)[static_cast<std::size_t>(i)], 1, nearest_face, nearest_squared) == 1 &&
+            std::sqrt(double(nearest_squared[0])) < rim_reach)
+          rim.push_back(static_cast<std::size_t>(i));
+      if (rim.size() < 10)
+        return false;
+      const std::size_t count = std::min(rim.size(), static_cast<std::size_t>(parameters.implicit_points));
+      std::vector<Eigen::Vector3d> rim_points, rim_normals;
+      for (std::size_t k = 0; k < count; ++k) {
+        const std::size_t j = rim[k * rim.size() / count];
+        rim_points.push_back(points[j]);
+        rim_normals.push_back(normals[j]);
+      }
+      BiharmonicImplicit implicit;
+      try {
+        implicit.fit(rim_points, rim_normals, parameters.implicit_offset * spacing);
+      } catch (const Error&) {
+        return false;
+      }
+      // Seeds: the gap's faces and the Poisson faces around it up to the lattice's reach (the gap
+      // stops gap_factor × s short of the data; the clearance test below keeps the data's own).
+      TriangleMesh seeds = part;
+      double seed_area = area;
+      {
+        const double reach = far_limit + parameters.rim_reach * a;
+        for (std::size_t f = 0; f < surface.faces.size(); ++f) {
+          if (far[f] || (centroids[f] - centre).norm() > radius + reach)
+            continue;
+          if (gap_tree_3d.nearestKSearch(toPoint(centroids[f]), 1, nearest_face, nearest_squared) != 1 ||
+              std::sqrt(double(nearest_squared[0])) > reach)
+            continue;
+          const Face& face = surface.faces[f];
+          const auto base = static_cast<std::int32_t>(seeds.vertices.size());
+          for (int k = 0; k < 3; ++k)
+            seeds.vertices.push_back(surface.vertices[static_cast<std::size_t>(face[k])]);
+          seeds.faces.push_back(Face{base, base + 1, base + 2});
+          seed_area += 0.5 * (seeds.vertices[base + 1] - seeds.vertices[base]).cross(seeds.vertices[base + 2] - seeds.vertices[base]).norm();
+        }
+      }
+      const auto samples_wanted =
+          static_cast<std::size_t>(std::llround(parameters.oversampling * report.density * seed_area));
+      if (samples_wanted == 0)
+        return false;
+      const SurfaceSamples samples = sampleSurfaceUniform(seeds, samples_wanted, static_cast<std::uint64_t>(g) + 1);
+      const double min_distance = parameters.thinning * a;
+      const double max_move = std::max(0.5 * radius, 4.0 * spacing);
+      pcl::Indices nearest_input(1);
+      std::vector<float> input_squared(1);
+      std::unordered_map<std::int64_t, std::vector<std::size_t>> cells;  // of the kept points
+      const auto cell_of = [&](const Eigen::Vector3d& p, int dx, int dy, int dz) {
+        const auto c = [&](double v, int d) { return static_cast<std::int64_t>(std::floor(v / min_distance)) + d; };
+        return ((c(p.x(), dx) & 0x1FFFFF) << 42) | ((c(p.y(), dy) & 0x1FFFFF) << 21) | (c(p.z(), dz) & 0x1FFFFF);
+      };
+      for (const Eigen::Vector3d& sample : samples.points) {
+        Eigen::Vector3d p = sample;
+        if (!implicit.project(p, 1e-3 * spacing) || (p - sample).norm() > max_move)
+          continue;
+        if (tree.nearestKSearch(toPoint(p), 1, nearest_input, input_squared) != 1 ||
+            std::sqrt(double(input_squared[0])) < parameters.clearance * a)
+          continue;  // the data is there already
+        bool crowded = false;
+        for (int dx = -1; dx <= 1 && !crowded; ++dx)
+          for (int dy = -1; dy <= 1 && !crowded; ++dy)
+            for (int dz = -1; dz <= 1 && !crowded; ++dz) {
+              const auto it = cells.find(cell_of(p, dx, dy, dz));
+              if (it != cells.end())
+                for (const std::size_t k : it->second)
+                  if ((fill.points[k] - p).norm() < min_distance) {
+                    crowded = true;
+                    break;
+                  }
+            }
+        if (crowded)
+          continue;
+        const Eigen::Vector3d gradient = implicit.gradient(p);
+        if (!(gradient.norm() > 0.0))
+          continue;
+        cells[cell_of(p, 0, 0, 0)].push_back(fill.points.size());
+        fill.points.push_back(p);
+        fill.normals.push_back(gradient.normalized());  // f grows along the input's normals
+        fill.sources.push_back(static_cast<std::size_t>(nearest_input[0]));
+      }
+      return true;
+    };
+    // Auto: a flat gap whose rim points all face its way (one sheet) keeps the height field, which
+    // fills such holes as well or better (demosthenes, bunny); any other gets the implicit.
+    bool height_field = parameters.surface == CloudCompletionParameters::Surface::HeightField;
+    if (parameters.surface == CloudCompletionParameters::Surface::Auto && normal_sum.norm() >= parameters.flatness * area) {
+      const Eigen::Vector3d mean_normal = normal_sum.normalized();
+      pcl::Indices found, nearest_face(1);
+      std::vector<float> found_squared, nearest_squared(1);
+      tree.radiusSearch(toPoint(centre), radius + rim_reach, found, found_squared);
+      std::size_t near = 0, facing = 0;
+      for (const auto i : found) {
+        const auto j = static_cast<std::size_t>(i);
+        if (gap_tree_3d.nearestKSearch((*positions)[j], 1, nearest_face, nearest_squared) == 1 &&
+            std::sqrt(double(nearest_squared[0])) < rim_reach) {
+          ++near;
+          facing += normals[j].dot(mean_normal) > 0.3 ? 1 : 0;
+        }
+      }
+      height_field = near > 0 && static_cast<double>(facing) >= parameters.single_sheet * static_cast<double>(near);
+    }
+    if (!height_field) {
+      if (fill_from_implicit())
+        fill.outcome = HoleFill::Outcome::FilledImplicit;
+      else
+        fill_from_poisson();
+      continue;
+    }
     if (normal_sum.norm() < parameters.flatness * area) {
       fill_from_poisson();
       continue;
@@ -220,14 +351,7 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
     std::vector<float> squared;
     tree.radiusSearch(toPoint(centre), rim_radius, index, squared);
     std::sort(index.begin(), index.end());
-    // The rim: points near the gap's own faces in 3D (not merely near its centre: another sheet of
-    // a folded surface can pass close by), facing the same way.
-    auto gap_faces_3d = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-    for (const std::int32_t f : gap.faces)
-      gap_faces_3d->push_back(toPoint(centroids[static_cast<std::size_t>(f)]));
-    pcl::search::KdTree<pcl::PointXYZ> gap_tree_3d(false);
-    gap_tree_3d.setInputCloud(gap_faces_3d);
-    const double rim_reach = far_limit + parameters.rim_width * radius + 2.0 * spacing;
+    // The rim: points near the gap's own faces in 3D, facing the same way.
     std::vector<std::size_t> rim;
     pcl::Indices nearest_face(1);
     std::vector<float> nearest_squared(1);
@@ -295,6 +419,10 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
   for (HoleFill& fill : fills) {
     switch (fill.outcome) {
     case HoleFill::Outcome::Filled: ++report.holes_filled; break;
+    case HoleFill::Outcome::FilledImplicit:
+      ++report.holes_filled;
+      ++report.holes_implicit;
+      break;
     case HoleFill::Outcome::TooLarge: ++report.holes_too_large; break;
     case HoleFill::Outcome::FilledFromPoisson: ++report.holes_from_poisson; break;
     }
