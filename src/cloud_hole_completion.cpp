@@ -154,6 +154,13 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
 
   // 3. Each hole: a thin-plate spline through its rim, sampled on the lattice over the gap.
   start = Clock::now();
+  // All face centroids, to find the faces around a gap without a pass over the whole surface each.
+  auto centroid_cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+  for (const Eigen::Vector3d& c : centroids)
+    centroid_cloud->push_back(toPoint(c));
+  pcl::search::KdTree<pcl::PointXYZ> centroid_tree(false);
+  if (!gaps.empty())
+    centroid_tree.setInputCloud(centroid_cloud);
   std::vector<HoleFill> fills(gaps.size());
   const auto ng = static_cast<std::ptrdiff_t>(gaps.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
@@ -255,7 +262,12 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
       double seed_area = area;
       {
         const double reach = far_limit + parameters.rim_reach * a;
-        for (std::size_t f = 0; f < surface.faces.size(); ++f) {
+        pcl::Indices around;
+        std::vector<float> around_squared;
+        centroid_tree.radiusSearch(toPoint(centre), 1.01 * (radius + reach) + 1e-6, around, around_squared);
+        std::sort(around.begin(), around.end());
+        for (const auto index_f : around) {
+          const auto f = static_cast<std::size_t>(index_f);
           if (far[f] || (centroids[f] - centre).norm() > radius + reach)
             continue;
           if (gap_tree_3d.nearestKSearch(toPoint(centroids[f]), 1, nearest_face, nearest_squared) != 1 ||
