@@ -56,7 +56,10 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
                 " points are left after outlier removal; at least 100 are needed");
   if (!(spacing > 0.0) || !std::isfinite(spacing) || !(parameters.gap_factor > 0.0) || parameters.min_gap_faces < 1 ||
       !(parameters.max_hole_diameter >= 0.0) || !(parameters.rim_width > 0.0) || parameters.max_rim_points < 10 ||
-      !(parameters.smoothing >= 0.0) || !(parameters.clearance >= 0.0))
+      !(parameters.smoothing >= 0.0) || !(parameters.clearance >= 0.0) || !(parameters.single_sheet >= 0.0) ||
+      !(parameters.single_sheet <= 1.0) || parameters.implicit_points < 10 || !(parameters.implicit_offset > 0.0) ||
+      !std::isfinite(parameters.implicit_offset) || parameters.oversampling < 1 || parameters.oversampling > 1000 ||
+      !(parameters.thinning > 0.0) || !std::isfinite(parameters.thinning))
     throw Error("cloud completion: parameters out of range");
 #ifdef _OPENMP
   const int threads = parameters.num_threads > 0 ? parameters.num_threads : omp_get_max_threads();
@@ -229,24 +232,40 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
     // The implicit: f = 0 through the rim (every point near the gap's faces, whichever way it
     // faces) with f = ±ε along the normals; Poisson's bridge over the gap, sampled densely, is moved
     // onto f = 0 and thinned to the input's density.
-    const auto fill_from_implicit = [&]() -> bool {
-      pcl::Indices found;
-      std::vector<float> found_squared;
+    // The rim in 3D: every point near the gap's faces, whichever way it faces (index order).
+    std::vector<std::size_t> rim_3d;
+    {
+      pcl::Indices found, nearest(1);
+      std::vector<float> found_squared, nearest_squared(1);
       tree.radiusSearch(toPoint(centre), radius + rim_reach, found, found_squared);
       std::sort(found.begin(), found.end());
-      std::vector<std::size_t> rim;
+      for (const auto i : found)
+        if (gap_tree_3d.nearestKSearch((*positions)[static_cast<std::size_t>(i)], 1, nearest, nearest_squared) == 1 &&
+            std::sqrt(double(nearest_squared[0])) < rim_reach)
+          rim_3d.push_back(static_cast<std::size_t>(i));
+    }
+    const auto fill_from_implicit = [&]() -> bool {
       pcl::Indices nearest_face(1);
       std::vector<float> nearest_squared(1);
-      for (const auto i : found)
-        if (gap_tree_3d.nearestKSearch((*positions)[static_cast<std::size_t>(i)], 1, nearest_face, nearest_squared) == 1 &&
-            std::sqrt(double(nearest_squared[0])) < rim_reach)
-          rim.push_back(static_cast<std::size_t>(i));
-      if (rim.size() < 10)
+      // At most implicit_points of the rim, spread in space (duplicates and near-duplicates make
+      // the system singular or ill-conditioned): one point per cell of a grid whose cell grows
+      // until few enough are left, starting at half a spacing.
+      std::vector<std::size_t> kept;
+      for (double cell = 0.5 * spacing;; cell *= 1.25) {
+        kept.clear();
+        std::unordered_map<std::int64_t, char> taken;
+        for (const std::size_t j : rim_3d) {
+          const auto c = [&](double v) { return static_cast<std::int64_t>(std::floor(v / cell)) & 0x1FFFFF; };
+          if (taken.emplace((c(points[j].x()) << 42) | (c(points[j].y()) << 21) | c(points[j].z()), 1).second)
+            kept.push_back(j);
+        }
+        if (kept.size() <= static_cast<std::size_t>(parameters.implicit_points))
+          break;
+      }
+      if (kept.size() < 10)
         return false;
-      const std::size_t count = std::min(rim.size(), static_cast<std::size_t>(parameters.implicit_points));
       std::vector<Eigen::Vector3d> rim_points, rim_normals;
-      for (std::size_t k = 0; k < count; ++k) {
-        const std::size_t j = rim[k * rim.size() / count];
+      for (const std::size_t j : kept) {
         rim_points.push_back(points[j]);
         rim_normals.push_back(normals[j]);
       }
@@ -264,7 +283,7 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
         const double reach = far_limit + parameters.rim_reach * a;
         pcl::Indices around;
         std::vector<float> around_squared;
-        centroid_tree.radiusSearch(toPoint(centre), 1.01 * (radius + reach) + 1e-6, around, around_squared);
+        centroid_tree.radiusSearch(toPoint(centre), 1.01 * (radius + reach), around, around_squared);
         std::sort(around.begin(), around.end());
         for (const auto index_f : around) {
           const auto f = static_cast<std::size_t>(index_f);
@@ -316,7 +335,8 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
             }
         if (crowded)
           continue;
-        const Eigen::Vector3d gradient = implicit.gradient(p);
+        Eigen::Vector3d gradient;
+        implicit.valueAndGradient(p, gradient);
         if (!(gradient.norm() > 0.0))
           continue;
         cells[cell_of(p, 0, 0, 0)].push_back(fill.points.size());
@@ -324,26 +344,18 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
         fill.normals.push_back(gradient.normalized());  // f grows along the input's normals
         fill.sources.push_back(static_cast<std::size_t>(nearest_input[0]));
       }
-      return true;
+      return !fill.points.empty();
     };
     // Auto: a flat gap whose rim points all face its way (one sheet) keeps the height field, which
     // fills such holes as well or better (demosthenes, bunny); any other gets the implicit.
     bool height_field = parameters.surface == CloudCompletionParameters::Surface::HeightField;
     if (parameters.surface == CloudCompletionParameters::Surface::Auto && normal_sum.norm() >= parameters.flatness * area) {
       const Eigen::Vector3d mean_normal = normal_sum.normalized();
-      pcl::Indices found, nearest_face(1);
-      std::vector<float> found_squared, nearest_squared(1);
-      tree.radiusSearch(toPoint(centre), radius + rim_reach, found, found_squared);
-      std::size_t near = 0, facing = 0;
-      for (const auto i : found) {
-        const auto j = static_cast<std::size_t>(i);
-        if (gap_tree_3d.nearestKSearch((*positions)[j], 1, nearest_face, nearest_squared) == 1 &&
-            std::sqrt(double(nearest_squared[0])) < rim_reach) {
-          ++near;
-          facing += normals[j].dot(mean_normal) > 0.3 ? 1 : 0;
-        }
-      }
-      height_field = near > 0 && static_cast<double>(facing) >= parameters.single_sheet * static_cast<double>(near);
+      std::size_t facing = 0;
+      for (const std::size_t j : rim_3d)
+        facing += normals[j].dot(mean_normal) > 0.3 ? 1 : 0;
+      height_field = !rim_3d.empty() &&
+                     static_cast<double>(facing) >= parameters.single_sheet * static_cast<double>(rim_3d.size());
     }
     if (!height_field) {
       if (fill_from_implicit())

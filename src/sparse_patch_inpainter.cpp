@@ -39,12 +39,13 @@ struct ReliefProbe {
 };
 
 /** Lays quads of side `quad_length` (overlap k) on `work` into `layout`, widens the patches on its
-  * seeds to each probe side (relief_probe_factors × d), and asks checkPatchPrediction whether the
-  * dictionary predicts a hidden disc better than a biharmonic fill. */
+  * seeds to each probe side (relief_probe_factors × d, or fixed_scale × quad_length when given),
+  * and asks checkPatchPrediction whether the dictionary predicts a hidden disc better than a
+  * biharmonic fill. */
 ReliefProbe probeRelief(const TriangleMesh& work, const std::vector<bool>& observed,
                         const PatchDictionary::ConstPtr& dictionary, const SparsePatchInpainter::Parameters& p,
                         double median_diameter, double mean_edge_length, double quad_length, int overlap,
-                        PatchLayout& layout, int max_seeds = 0)
+                        PatchLayout& layout, int max_seeds = 0, double fixed_scale = 0.0)
 {
   ReliefProbe result;
   result.quad_length = quad_length;
@@ -52,9 +53,12 @@ ReliefProbe probeRelief(const TriangleMesh& work, const std::vector<bool>& obser
   PatchCorrectionParameters probe = p;
   probe.quad_length = quad_length;
   probe.overlap = overlap;
-  std::vector<double> scales;
-  for (double factor : p.relief_probe_factors)
-    scales.push_back(factor * median_diameter / quad_length);
+  std::vector<double> scales;  // patch sides × quad_length: the one given, or the candidates × d
+  if (fixed_scale > 0.0)
+    scales.push_back(fixed_scale);
+  else
+    for (double factor : p.relief_probe_factors)
+      scales.push_back(factor * median_diameter / quad_length);
   computePatchLayout(work, PatchCorrection::layoutParameters(probe, quad_length), layout);
   result.seconds_layout = secondsSince(t);
   t = Clock::now();
@@ -373,7 +377,8 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
         probe = probeRelief(work, observed, dictionary, p, median_diameter, r.mean_edge_length,
                             shared_layout ? patch_parameters.quad_length : relief_length,
                             shared_layout ? patch_parameters.overlap : 1, probe_layout,
-                            shared_layout ? p.relief_probe_max_seeds : 0);
+                            shared_layout ? p.relief_probe_max_seeds : 0,
+                            automatic_quad_length ? 0.0 : patch_parameters.patch_scale);
       r.seconds_check_layout = probe.seconds_layout;
       r.seconds_check_patches = probe.seconds_patches;
       r.seconds_check_prediction = probe.seconds_prediction;

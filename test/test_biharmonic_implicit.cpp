@@ -77,6 +77,35 @@ TEST(BiharmonicImplicit, BadInputIsAnError)
   points[1].x() = std::nan("");
   EXPECT_THROW(f.fit(points, normals, 0.1), Error);
   EXPECT_TRUE(f.empty());
+  // A failed refit keeps the fit it had: the plane z = 0 still.
+  points[1].x() = 1.0;
+  f.fit(points, normals, 0.1);
+  points.push_back(points[0]);  // a duplicate: two identical rows
+  normals.push_back(normals[0]);
+  EXPECT_THROW(f.fit(points, normals, 0.1), Error);
+  EXPECT_FALSE(f.empty());
+  EXPECT_NEAR(f(Eigen::Vector3d(0.3, 0.7, 0.25)), 0.25, 1e-9);
+}
+
+TEST(BiharmonicImplicit, ShortensOffsetsThatWouldCrossAThinSheet)
+{
+  // Two parallel sheets 0.1 apart, normals pointing away from each other: offsets of ε = 0.17 along
+  // the normals stay clear outside, but the inward ones (−ε n) would land beyond the other sheet.
+  // Halved twice where they cross (to 0.0425), the zero set keeps both sheets.
+  std::vector<Eigen::Vector3d> points, normals;
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j)
+      for (int side = -1; side <= 1; side += 2) {
+        points.emplace_back(0.1 * i, 0.1 * j, 0.05 * side);
+        normals.emplace_back(0.0, 0.0, side);
+      }
+  BiharmonicImplicit f;
+  f.fit(points, normals, 0.17);
+  EXPECT_LT(f(Eigen::Vector3d(0.35, 0.35, 0.0)), 0.0);   // between the sheets: inside
+  EXPECT_GT(f(Eigen::Vector3d(0.35, 0.35, 0.1)), 0.0);   // beyond the upper sheet: outside
+  Eigen::Vector3d x(0.35, 0.35, 0.08);
+  ASSERT_TRUE(f.project(x, 1e-9));
+  EXPECT_NEAR(x.z(), 0.05, 0.01);
 }
 
 }  // namespace

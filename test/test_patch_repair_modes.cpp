@@ -124,24 +124,24 @@ TEST(PatchRepairModes, SelfSimilarPatchesFillAReliefHoleBetterThanLiepa)
   // paper's Fig. 8a protocol: one patch side for every hole size). Before, the relief settings
   // replaced it by 0.8 × the hole diameter.
   SparsePatchInpainter::Parameters fixed = SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes);
-  fixed.quad_length = 0.12;
-  fixed.patch_scale = 1.25;
+  fixed.quad_length = 0.15;
+  fixed.patch_scale = 1.6;
   inpainter.setParameters(fixed);
   TriangleMesh fixed_side;
   inpainter.process(fixed_side, &report);
   EXPECT_TRUE(report.relief) << report.relief_gain;
-  EXPECT_DOUBLE_EQ(report.patches.quad_length, 0.12);
-  EXPECT_NEAR(report.patches.patch_side, 0.15, 1e-12);
+  EXPECT_DOUBLE_EQ(report.patches.quad_length, 0.15);
+  EXPECT_NEAR(report.patches.patch_side, 0.24, 1e-12);
   const double fixed_error = meanReliefError(fixed_side, holed.numVertices());
   RecordProperty("fixed_side_error", std::to_string(fixed_error));
-  EXPECT_LT(fixed_error, 0.7 * base) << "Liepa " << base << ", patches at side 0.15 " << fixed_error;
+  EXPECT_LT(fixed_error, 0.7 * base) << "Liepa " << base << ", patches at side 0.24 " << fixed_error;
   fixed.hole_settings = SparsePatchInpainter::Parameters::HoleSettings::Relief;  // no probe: as given
   inpainter.setParameters(fixed);
   inpainter.process(fixed_side, &report);
   EXPECT_TRUE(report.relief);
   EXPECT_EQ(report.relief_gain, 0.0);
-  EXPECT_DOUBLE_EQ(report.patches.quad_length, 0.12);
-  EXPECT_NEAR(report.patches.patch_side, 0.15, 1e-12);
+  EXPECT_DOUBLE_EQ(report.patches.quad_length, 0.15);
+  EXPECT_NEAR(report.patches.patch_side, 0.24, 1e-12);
 }
 
 TEST(PatchRepairModes, ASmoothSurfaceKeepsTheSmoothSettings)

@@ -18,12 +18,15 @@ namespace patchdict {
   * The (3n + 4)² system is solved once, dense (n up to a few hundred points). */
 class BiharmonicImplicit {
 public:
-  /** Fits f through the points with unit normals; ε > 0, in the points' units. Throws Error for
-    * fewer than 4 points, sizes that differ, non-finite values, ε ≤ 0, coplanar-degenerate or
-    * singular systems. */
+  /** Fits f through the points with their normals; ε > 0, in the points' units (halved, up to 3
+    * times, where an offset point would be nearer another point than its own). Throws Error for
+    * fewer than 4 points, sizes that differ, non-finite values, zero normals, ε ≤ 0, or a singular
+    * system (duplicate points); a failed fit leaves the previous one in place. */
   void fit(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals, double epsilon);
   double operator()(const Eigen::Vector3d& x) const;
   Eigen::Vector3d gradient(const Eigen::Vector3d& x) const;
+  /** f(x), with ∇f(x) in `gradient` (one pass over the centres). */
+  double valueAndGradient(const Eigen::Vector3d& x, Eigen::Vector3d& gradient) const;
   /** Newton steps along ∇f from x towards f = 0: true with the foot in x when |f| ≤ tolerance
     * within `iterations`, false (x unspecified) otherwise. */
   bool project(Eigen::Vector3d& x, double tolerance, int iterations = 12) const;

@@ -63,7 +63,8 @@ public:
     /// 0.035 on boot, demosthenes, max_planck, lucy), sole/knurl/tiles 1.49–7.5. Smooth
     /// keeps the parameters as given; Relief forces the relief settings. A quad_length given by
     /// the caller (> 0) is kept by both, with its patch side patch_scale × L (the paper's Fig. 8a
-    /// protocol); the check then probes that layout, and only decides relief or smooth.
+    /// protocol); the check then probes that layout at that patch side, and only decides relief or
+    /// smooth.
     enum class HoleSettings { Auto, Smooth, Relief };
     HoleSettings hole_settings = HoleSettings::Auto;
     std::vector<double> relief_probe_factors{0.8, 1.2, 1.6};  ///< patch sides, × d (one layout: the smooth L, if automatic)
