@@ -36,6 +36,24 @@ struct Gap {
   std::vector<std::int32_t> faces;
 };
 
+/** Appends face f of `surface` to `part` as a triangle of its own. */
+void appendFace(const TriangleMesh& surface, std::size_t f, TriangleMesh& part)
+{
+  const Face& face = surface.faces[f];
+  const auto base = static_cast<std::int32_t>(part.vertices.size());
+  for (int k = 0; k < 3; ++k)
+    part.vertices.push_back(surface.vertices[static_cast<std::size_t>(face[k])]);
+  part.faces.push_back(Face{base, base + 1, base + 2});
+}
+
+/** Key of the cubic cell of side `cell` holding p, shifted by (dx, dy, dz) cells (21 bits per axis:
+  * keys repeat only 2²¹ cells apart, far beyond one hole). */
+std::int64_t cellKey(const Eigen::Vector3d& p, double cell, int dx = 0, int dy = 0, int dz = 0)
+{
+  const auto c = [cell](double v, int d) { return (static_cast<std::int64_t>(std::floor(v / cell)) + d) & 0x1FFFFF; };
+  return (c(p.x(), dx) << 42) | (c(p.y(), dy) << 21) | c(p.z(), dz);
+}
+
 struct HoleFill {
   std::vector<Eigen::Vector3d> points, normals;
   std::vector<std::size_t> sources;
@@ -155,7 +173,7 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
   report.lattice_spacing = a;
   report.seconds_gaps = secondsSince(start);
 
-  // 3. Each hole: a thin-plate spline through its rim, sampled on the lattice over the gap.
+  // 3. Each hole: the implicit or the spline through its rim, sampled at the input's density.
   start = Clock::now();
   // All face centroids, to find the faces around a gap without a pass over the whole surface each.
   auto centroid_cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
@@ -194,13 +212,8 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
       continue;
     }
     TriangleMesh part;  // the gap's Poisson faces
-    for (const std::int32_t f : gap.faces) {
-      const Face& face = surface.faces[static_cast<std::size_t>(f)];
-      const auto base = static_cast<std::int32_t>(part.vertices.size());
-      for (int k = 0; k < 3; ++k)
-        part.vertices.push_back(surface.vertices[static_cast<std::size_t>(face[k])]);
-      part.faces.push_back(Face{base, base + 1, base + 2});
-    }
+    for (const std::int32_t f : gap.faces)
+      appendFace(surface, static_cast<std::size_t>(f), part);
     // The gap's faces in 3D, to find the rim: points near them (not merely near the centre: another
     // sheet of a folded surface can pass close by).
     auto gap_faces_3d = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
@@ -229,9 +242,6 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
         fill.sources.push_back(static_cast<std::size_t>(nearest[0]));
       }
     };
-    // The implicit: f = 0 through the rim (every point near the gap's faces, whichever way it
-    // faces) with f = ±ε along the normals; Poisson's bridge over the gap, sampled densely, is moved
-    // onto f = 0 and thinned to the input's density.
     // The rim in 3D: every point near the gap's faces, whichever way it faces (index order).
     std::vector<std::size_t> rim_3d;
     {
@@ -244,6 +254,8 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
             std::sqrt(double(nearest_squared[0])) < rim_reach)
           rim_3d.push_back(static_cast<std::size_t>(i));
     }
+    // The implicit: f = 0 through the rim with f = ±ε along the normals; Poisson's bridge over the
+    // gap, sampled densely, is moved onto f = 0 and thinned to the input's density.
     const auto fill_from_implicit = [&]() -> bool {
       pcl::Indices nearest_face(1);
       std::vector<float> nearest_squared(1);
@@ -254,11 +266,9 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
       for (double cell = 0.5 * spacing;; cell *= 1.25) {
         kept.clear();
         std::unordered_map<std::int64_t, char> taken;
-        for (const std::size_t j : rim_3d) {
-          const auto c = [&](double v) { return static_cast<std::int64_t>(std::floor(v / cell)) & 0x1FFFFF; };
-          if (taken.emplace((c(points[j].x()) << 42) | (c(points[j].y()) << 21) | c(points[j].z()), 1).second)
+        for (const std::size_t j : rim_3d)
+          if (taken.emplace(cellKey(points[j], cell), 1).second)
             kept.push_back(j);
-        }
         if (kept.size() <= static_cast<std::size_t>(parameters.implicit_points))
           break;
       }
@@ -292,12 +302,9 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
           if (gap_tree_3d.nearestKSearch(toPoint(centroids[f]), 1, nearest_face, nearest_squared) != 1 ||
               std::sqrt(double(nearest_squared[0])) > reach)
             continue;
-          const Face& face = surface.faces[f];
-          const auto base = static_cast<std::int32_t>(seeds.vertices.size());
-          for (int k = 0; k < 3; ++k)
-            seeds.vertices.push_back(surface.vertices[static_cast<std::size_t>(face[k])]);
-          seeds.faces.push_back(Face{base, base + 1, base + 2});
-          seed_area += 0.5 * (seeds.vertices[base + 1] - seeds.vertices[base]).cross(seeds.vertices[base + 2] - seeds.vertices[base]).norm();
+          appendFace(surface, f, seeds);
+          const Eigen::Vector3d* v = &seeds.vertices[seeds.vertices.size() - 3];
+          seed_area += 0.5 * (v[1] - v[0]).cross(v[2] - v[0]).norm();
         }
       }
       const auto samples_wanted =
@@ -310,10 +317,6 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
       pcl::Indices nearest_input(1);
       std::vector<float> input_squared(1);
       std::unordered_map<std::int64_t, std::vector<std::size_t>> cells;  // of the kept points
-      const auto cell_of = [&](const Eigen::Vector3d& p, int dx, int dy, int dz) {
-        const auto c = [&](double v, int d) { return static_cast<std::int64_t>(std::floor(v / min_distance)) + d; };
-        return ((c(p.x(), dx) & 0x1FFFFF) << 42) | ((c(p.y(), dy) & 0x1FFFFF) << 21) | (c(p.z(), dz) & 0x1FFFFF);
-      };
       for (const Eigen::Vector3d& sample : samples.points) {
         Eigen::Vector3d p = sample;
         if (!implicit.project(p, 1e-3 * spacing) || (p - sample).norm() > max_move)
@@ -325,7 +328,7 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
         for (int dx = -1; dx <= 1 && !crowded; ++dx)
           for (int dy = -1; dy <= 1 && !crowded; ++dy)
             for (int dz = -1; dz <= 1 && !crowded; ++dz) {
-              const auto it = cells.find(cell_of(p, dx, dy, dz));
+              const auto it = cells.find(cellKey(p, min_distance, dx, dy, dz));
               if (it != cells.end())
                 for (const std::size_t k : it->second)
                   if ((fill.points[k] - p).norm() < min_distance) {
@@ -339,7 +342,7 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
         implicit.valueAndGradient(p, gradient);
         if (!(gradient.norm() > 0.0))
           continue;
-        cells[cell_of(p, 0, 0, 0)].push_back(fill.points.size());
+        cells[cellKey(p, min_distance)].push_back(fill.points.size());
         fill.points.push_back(p);
         fill.normals.push_back(gradient.normalized());  // f grows along the input's normals
         fill.sources.push_back(static_cast<std::size_t>(nearest_input[0]));
@@ -371,21 +374,14 @@ void completeCloudHoles(const std::vector<Eigen::Vector3d>& points, const std::v
     const Eigen::Vector3d n = normal_sum.normalized();
     const Eigen::Vector3d e1 = n.unitOrthogonal(), e2 = n.cross(e1);
     const double rim_radius = (1.0 + parameters.rim_width) * radius + 2.0 * spacing;
+    // The spline's rim: the 3D rim's points near the centre, facing the gap's way.
+    std::vector<std::size_t> rim;
+    for (const std::size_t j : rim_3d)
+      if ((points[j] - centre).norm() <= rim_radius && normals[j].dot(n) > 0.3 &&
+          std::abs((points[j] - centre).dot(n)) < rim_radius)
+        rim.push_back(j);
     pcl::Indices index;
     std::vector<float> squared;
-    tree.radiusSearch(toPoint(centre), rim_radius, index, squared);
-    std::sort(index.begin(), index.end());
-    // The rim: points near the gap's own faces in 3D, facing the same way.
-    std::vector<std::size_t> rim;
-    pcl::Indices nearest_face(1);
-    std::vector<float> nearest_squared(1);
-    for (const auto i : index) {
-      const auto j = static_cast<std::size_t>(i);
-      if (normals[j].dot(n) > 0.3 && std::abs((points[j] - centre).dot(n)) < rim_radius &&
-          gap_tree_3d.nearestKSearch(toPoint(points[j]), 1, nearest_face, nearest_squared) == 1 &&
-          std::sqrt(double(nearest_squared[0])) < rim_reach)
-        rim.push_back(j);
-    }
     if (rim.size() < 10) {
       fill_from_poisson();
       continue;

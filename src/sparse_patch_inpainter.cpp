@@ -384,40 +384,37 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
       r.seconds_check_prediction = probe.seconds_prediction;
       r.relief_gain = probe.best_significant > 0.0 ? probe.best_significant : probe.best_any;
       r.relief = forced_relief || probe.best_significant >= p.relief_gain;
-      if (r.relief && !automatic_quad_length) {
+      if (r.relief) {
+        if (automatic_quad_length) {
+          // Relief: quads at the smallest probe's side (0.8 d), the best probe's patch side chosen
+          // on them. (Choosing on the smooth settings' denser quads instead gave 1 % more error on
+          // average on the harness's sole, knurl and tiles holes, knurl 0.035 +32 %.) A caller-given
+          // L keeps its quads and patch side.
+          if (forced_relief || std::abs(relief_length - probe.quad_length) > 1e-12 * relief_length) {
+            probe = probeRelief(work, observed, dictionary, p, median_diameter, r.mean_edge_length, relief_length, 1,
+                                probe_layout);
+            r.seconds_check_layout += probe.seconds_layout;
+            r.seconds_check_patches += probe.seconds_patches;
+            r.seconds_check_prediction += probe.seconds_prediction;
+          }
+          if (forced_relief)
+            r.relief_gain = probe.best_significant > 0.0 ? probe.best_significant : probe.best_any;
+          patch_parameters.quad_length = relief_length;
+          // In auto mode the verdict was significant on the first probe; should no side of the
+          // second clear the margin, its best gain decides rather than the first side by default.
+          patch_parameters.patch_scale =
+              forced_relief || probe.best_significant > 0.0 ? probe.best_scale : probe.best_any_scale;
+        }
         patch_parameters.overlap = p.relief_overlap;
         patch_parameters.fit_scale = 0.0;
         patch_parameters.agreement_scale = 0.0;
         r.seconds_check = secondsSince(check_start);
-        if (!forced_relief) {  // the probe's layout is the caller's L: reseeded, not made again
+        // The probe's coarse shape and quads, reseeded at the relief overlap, not made again (no
+        // probe ran when a caller-given L is forced to the relief settings).
+        if (automatic_quad_length || !forced_relief) {
           reseedPatchLayout(work, p.relief_overlap, probe_layout);
           use_probe_layout = true;
         }
-      } else if (r.relief) {
-        // Relief: quads at the smallest probe's side (0.8 d), the best probe's patch side chosen on
-        // them, the relief overlap. (Choosing on the smooth settings' denser quads instead gave
-        // 1 % more error on average on the harness's sole, knurl and tiles holes, knurl 0.035 +32 %.)
-        if (forced_relief || std::abs(relief_length - probe.quad_length) > 1e-12 * relief_length) {
-          probe = probeRelief(work, observed, dictionary, p, median_diameter, r.mean_edge_length, relief_length, 1,
-                              probe_layout);
-          r.seconds_check_layout += probe.seconds_layout;
-          r.seconds_check_patches += probe.seconds_patches;
-          r.seconds_check_prediction += probe.seconds_prediction;
-        }
-        if (forced_relief)
-          r.relief_gain = probe.best_significant > 0.0 ? probe.best_significant : probe.best_any;
-        patch_parameters.quad_length = relief_length;
-        // In auto mode the verdict was significant on the first probe; should no side of the second
-        // clear the margin, its best gain decides rather than the first side by default.
-        patch_parameters.patch_scale =
-            forced_relief || probe.best_significant > 0.0 ? probe.best_scale : probe.best_any_scale;
-        patch_parameters.overlap = p.relief_overlap;
-        patch_parameters.fit_scale = 0.0;
-        patch_parameters.agreement_scale = 0.0;
-        r.seconds_check = secondsSince(check_start);
-        // The probe's coarse shape and quads, reseeded at the relief overlap, not made again.
-        reseedPatchLayout(work, p.relief_overlap, probe_layout);
-        use_probe_layout = true;
       } else {
         r.seconds_check = secondsSince(check_start);
         use_probe_layout = shared_layout;  // exactly the layout the smooth settings would make

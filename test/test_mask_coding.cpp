@@ -1,10 +1,9 @@
 // The .pdc masks' context-modelled range coder: exact round trips, and far fewer bytes than the
 // deflated bitmaps of version 2 on the blob-shaped masks the codec writes.
 #include "../src/mask_coding.h"
+#include "test_support.h"
 
 #include <gtest/gtest.h>
-
-#include <zlib.h>
 
 #include <cmath>
 #include <random>
@@ -43,11 +42,7 @@ std::size_t deflatedBitmapBytes(const std::vector<std::vector<char>>& masks)
         bitmap[b / 8] = static_cast<char>(bitmap[b / 8] | (1 << (b % 8)));
     bitmaps += bitmap;
   }
-  uLongf size = compressBound(static_cast<uLong>(bitmaps.size()));
-  std::string packed(size, '\0');
-  compress2(reinterpret_cast<Bytef*>(&packed[0]), &size, reinterpret_cast<const Bytef*>(bitmaps.data()),
-            static_cast<uLong>(bitmaps.size()), Z_BEST_COMPRESSION);
-  return size;
+  return test_support::deflatedSize(bitmaps);
 }
 
 }  // namespace

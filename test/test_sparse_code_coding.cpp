@@ -2,12 +2,11 @@
 // quantised coefficients, fewer bytes than version 2's deflated bitmaps and byte planes on codes
 // shaped like the codec's, and cut streams refused.
 #include "../src/sparse_code_coding.h"
+#include "test_support.h"
 
 #include <pcl_patchdict/error.h>
 
 #include <gtest/gtest.h>
-
-#include <zlib.h>
 
 #include <algorithm>
 #include <limits>
@@ -59,15 +58,6 @@ Codes codecLikeCodes(std::size_t patches, std::uint32_t seed)
   return codes;
 }
 
-std::size_t deflated(const std::string& raw)
-{
-  uLongf size = compressBound(static_cast<uLong>(raw.size()));
-  std::string packed(size, '\0');
-  compress2(reinterpret_cast<Bytef*>(&packed[0]), &size, reinterpret_cast<const Bytef*>(raw.data()),
-            static_cast<uLong>(raw.size()), Z_BEST_COMPRESSION);
-  return size;
-}
-
 }  // namespace
 
 TEST(SparseCodeCoding, RoundTripsAtomSetsAndCoefficients)
@@ -104,8 +94,8 @@ TEST(SparseCodeCoding, FewerBytesThanVersion2Sections)
       ++nonzeros;
     }
   }
-  const std::size_t atoms = encodeAtomSets(codes.atoms, 100).size(), atoms_v2 = deflated(bitmaps);
-  const std::size_t values = encodeCoefficients(codes.values, codes.atoms, 100).size(), values_v2 = deflated(low + high);
+  const std::size_t atoms = encodeAtomSets(codes.atoms, 100).size(), atoms_v2 = test_support::deflatedSize(bitmaps);
+  const std::size_t values = encodeCoefficients(codes.values, codes.atoms, 100).size(), values_v2 = test_support::deflatedSize(low + high);
   std::printf("%zu non-zeros: atom sets %zu bytes (deflated bitmaps %zu), coefficients %zu (deflated planes %zu)\n",
               nonzeros, atoms, atoms_v2, values, values_v2);
   EXPECT_LT(atoms, atoms_v2 * 9 / 10);  // measured 7196 / 8957

@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <zlib.h>
 
 namespace test_support {
 
@@ -103,6 +104,15 @@ bool endsWithOneErrorLine(const std::string& err)
 }
 
 std::string q(const std::string& path) { return "'" + path + "'"; }
+
+std::size_t deflatedSize(const std::string& raw)
+{
+  uLongf size = compressBound(static_cast<uLong>(raw.size()));
+  std::string packed(size, '\0');
+  compress2(reinterpret_cast<Bytef*>(&packed[0]), &size, reinterpret_cast<const Bytef*>(raw.data()),
+            static_cast<uLong>(raw.size()), Z_BEST_COMPRESSION);
+  return size;
+}
 
 
 }  // namespace test_support

@@ -1,6 +1,7 @@
 // Helpers shared by the test suites: temporary directories and running the pcl_patchdict tool.
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 namespace test_support {
@@ -30,6 +31,8 @@ ToolResult runTool(const std::string& arguments);
 
 /** Whole file as bytes ("" if missing). */
 std::string readFile(const std::string& path);
+/** Bytes of `raw` deflated at zlib's best compression (the .pdc format-2 baseline in coder tests). */
+std::size_t deflatedSize(const std::string& raw);
 /** Writes bytes to a file (test fixtures). */
 void writeFile(const std::string& path, const std::string& bytes);
 

@@ -38,12 +38,12 @@ struct CloudCompletionParameters {
   /// sampled on a hexagonal lattice (a gap that is not flat gets Poisson's surface). Auto: the
   /// height field for a flat gap whose rim faces one way (single_sheet), the implicit otherwise.
   /// Harness cloud_holes, new points' mean distance ×1e-3 / coverage within 1.5 s, height field →
-  /// auto: lucy 2.944 / 29.8 % → 2.298 / 44.7 %, armadillo 1.917 / 58.1 → 1.590 / 63.6, boot, bunny,
-  /// demosthenes within ±1.2 % and ±1.3 points.
+  /// auto: lucy 2.944 / 29.8 % → 2.298 / 44.7 %, armadillo 1.917 / 58.1 → 1.590 / 63.6, bunny
+  /// 0.935 / 86.0 → 0.933 / 88.8, boot and demosthenes within ±1.1 % and ±1.3 points.
   enum class Surface { Auto, Implicit, HeightField };
   Surface surface = Surface::Auto;
   /// Auto: the height field when at least this share of the rim's points face the gap's mean normal
-  /// (cosine > 0.3); 0.95 and 0.98 measured the same within 1 %.
+  /// (cosine > 0.3); 0.95 gave the same on four of the five harness scans, lucy 2.304 against 2.285.
   double single_sheet = 0.98;
   int implicit_points = 500;     ///< rim points of the implicit, evenly spaced (its system is 3n + 4)
   double implicit_offset = 2.0;  ///< ε of the off-surface constraints, × s (lucy, an earlier setup: 0.5 / 1 / 2 → 2.732 / 2.677 / 2.629)
