@@ -191,6 +191,15 @@ JsonObject& JsonObject::add(const std::string& key, const std::vector<JsonObject
   return *this;
 }
 
+JsonObject& JsonObject::add(const std::string& key, const std::vector<long long>& values)
+{
+  std::string array = "[";
+  for (std::size_t i = 0; i < values.size(); ++i)
+    array += (i ? "," : "") + std::to_string(values[i]);
+  members_.emplace_back(key, array + "]");
+  return *this;
+}
+
 JsonObject& JsonObject::addNull(const std::string& key)
 {
   members_.emplace_back(key, "null");

@@ -60,6 +60,7 @@ public:
   JsonObject& add(const std::string& key, const char* value) { return add(key, std::string(value)); }
   JsonObject& add(const std::string& key, const JsonObject& value);
   JsonObject& add(const std::string& key, const std::vector<JsonObject>& values);  ///< an array of objects
+  JsonObject& add(const std::string& key, const std::vector<long long>& values);   ///< an array of integers
   JsonObject& addNull(const std::string& key);
   std::string str() const;
 

@@ -54,7 +54,7 @@ std::set<std::string> cloudValueOptions(bool fill)
   auto values = commonValueOptions();
   values.insert({"output", "noise", "bandwidth", "outlier-neighbours", "outlier-std", "residual-outliers", "dict"});
   if (fill)
-    values.insert({"max-hole-diameter", "rim-width"});
+    values.insert({"max-hole-diameter", "rim-width", "max-hole-pixels", "fit-ring"});
   return values;
 }
 
@@ -127,7 +127,10 @@ CloudInput loadCloudInput(const std::string& path)
         high = high.cwiseMax(x);
       }
     }
-    if (low.allFinite())
+    // An organised frame is kept in its own (sensor) frame, where its grid is a pinhole image, unless
+    // it lies far from its origin (georeferenced), where float32 would lose its precision.
+    const bool sensor_frame = input.blob.height > 1 && (0.5 * (low + high)).norm() < 1e4;
+    if (low.allFinite() && !sensor_frame)
       input.offset = 0.5 * (low + high);
     input.positions.resize(cloud.size());
     for (std::size_t i = 0; i < cloud.size(); ++i) {

@@ -83,6 +83,7 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
   pcl::PointCloud<pcl::PointNormal> denoised;
   CloudDenoisingReport report;
   pcl::Indices records;  // the input record of every output point (kept, then added)
+  pcl::Indices filled;   // a depth image's filled pixels
   using Inpainter = SparsePatchCloudInpainter<pcl::PointNormal, pcl::PointNormal>;
   const Inpainter::Mode mode = !fill ? Inpainter::Mode::Denoise
                                : args.has("denoise") ? Inpainter::Mode::DenoiseAndComplete
@@ -95,10 +96,16 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
     completion.max_hole_diameter = max_hole_diameter * scale;
     completion.rim_width = args.getDouble("rim-width", completion.rim_width, 0.05, 10.0);
     inpainter.setCompletionParameters(completion);
+    OrganizedFillParameters organized;
+    organized.max_hole_pixels = static_cast<std::size_t>(args.getInt("max-hole-pixels", 2000, 1, 100000000));
+    organized.fit_ring = static_cast<int>(args.getInt("fit-ring", 0, 0, 64));
+    inpainter.setOrganizedFillParameters(organized);
     inpainter.process(out);
     report = inpainter.getReport();
     records = inpainter.getKeptIndices();
     records.insert(records.end(), inpainter.getAddedSources().begin(), inpainter.getAddedSources().end());
+    if (inpainter.getReport().depth_image)
+      filled = inpainter.getAddedSources();
   };
   if (input.has_normals) {
     Inpainter inpainter;
@@ -158,8 +165,13 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
     const bool organised = denoised.height > 1;
     if (organised) {
       out = input.blob;
+      // Complete keeps every measured record as read: only filled pixels and dropped points change.
+      std::vector<char> changed(denoised.size(), mode != Inpainter::Mode::Complete);
+      for (const auto i : filled)
+        changed[static_cast<std::size_t>(i)] = 1;
       for (std::size_t i = 0; i < denoised.size(); ++i)
-        writePoint(out, i, denoised[i]);
+        if (changed[i] || !std::isfinite(denoised[i].x))
+          writePoint(out, i, denoised[i]);
       out.is_dense = denoised.is_dense;
     } else {
       out.header = input.blob.header;
@@ -222,6 +234,28 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
           .add("poisson_depth", c.poisson_depth).add("poisson_faces", c.poisson_faces)
           .add("lattice_spacing", c.lattice_spacing / scale).add("density", c.density * scale * scale);
       json.add("holes", holes);
+    }
+    if (report.depth_image) {
+      // An organised frame processed as a depth image: its camera, noise law, fill and free space.
+      JsonObject image, camera, law;
+      camera.add("fx", report.camera.fx).add("fy", report.camera.fy).add("cx", report.camera.cx)
+          .add("cy", report.camera.cy).add("rms_pixels", report.camera.rms_pixels);
+      law.add("coefficient", report.depth_noise.coefficient).add("exponent", report.depth_noise.exponent)
+          .add("exponent_fitted", report.depth_noise.exponent_fitted).add("samples", report.depth_noise.samples)
+          .add("depth_low", report.depth_noise.depth_low).add("depth_high", report.depth_noise.depth_high);
+      image.add("camera", camera).add("noise_law", law).add("off_ray_points", report.off_ray_points)
+          .add("free_space_reverted", report.free_space_reverted);
+      if (fill) {
+        const OrganizedFillReport& f = report.organized_fill;
+        JsonObject holes;
+        holes.add("regions", f.regions).add("filled", f.holes_filled).add("touching_border", f.touching_border)
+            .add("too_large", f.too_large).add("not_one_surface", f.not_one_surface)
+            .add("pixels_filled", f.pixels_filled).add("free_space_dropped", f.free_space_dropped);
+        const std::vector<long long> pixels(filled.begin(), filled.end());
+        holes.add("filled_pixels", pixels);
+        image.add("holes", holes);
+      }
+      json.add("depth_image", image);
     }
     json.add("removed_as_outliers", removed);
     json.add("removed_by_prefilter", report.outlier_filter_removed)

@@ -4,6 +4,7 @@
 
 #include <pcl_patchdict/cloud_hole_completion.h>
 #include <pcl_patchdict/local_quadric_projection.h>
+#include <pcl_patchdict/organized_hole_filling.h>
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -66,6 +67,10 @@ struct CloudDenoisingReport {
   double noise_sigma = 0.0;            ///< σ used
   bool noise_estimated = false;
   double bandwidth = 0.0;              ///< h used
+  /// Depth law (denoiseCloud given PointScales): σ_i and s_i per point, h_i = bandwidth_factor × s_i;
+  /// noise_sigma and bandwidth are then the medians of σ_i and h_i, mean_spacing the mean s_i.
+  bool depth_law = false;
+  double bandwidth_factor = 0.0;       ///< h / s
   struct BandwidthRisk {
     double factor = 0.0;           ///< h / s
     double risk = 0.0;             ///< estimated mean squared height error
@@ -80,9 +85,22 @@ struct CloudDenoisingReport {
          seconds_normals = 0.0;
   std::size_t points_added = 0;        ///< completion: new points (after the kept ones)
   CloudCompletionReport completion;    ///< what the completion did (Complete modes)
+  /// An organised input whose pixel grid is a pinhole image is processed as a depth image: the
+  /// camera fitted to it, its noise law, the in-place fill, and the free-space test (depth_image.h).
+  bool depth_image = false;
+  PinholeCamera camera;
+  DepthNoiseModel depth_noise;
+  OrganizedFillReport organized_fill;
+  std::size_t off_ray_points = 0;       ///< finite points far from their pixel's ray: not points (NaN)
+  std::size_t free_space_reverted = 0;  ///< denoised points the sensor saw through: kept as measured
 };
 
 namespace detail {
+/** Per-query scales of a sensor with a known noise law (an organised depth image): σ_i of the noise
+  * along the view at the point's depth, and s_i the spacing of its pixels there. */
+struct PointScales {
+  std::vector<double> sigma, spacing;
+};
 using KnnSearch = std::function<void(std::size_t query, int k, pcl::Indices& indices, std::vector<float>& squared)>;
 
 /** The type-free core of SparsePatchCloudInpainter: positions (NaN = not a point), optional input
@@ -93,7 +111,7 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
                   const RadiusNeighbourSearch& radius, const CloudDenoisingParameters& parameters,
                   bool want_normals, const Eigen::Vector3d* viewpoint, std::vector<char>& kept,
                   std::vector<Eigen::Vector3d>& out_positions, std::vector<Eigen::Vector3d>& out_normals,
-                  CloudDenoisingReport& report);
+                  CloudDenoisingReport& report, const PointScales* scales = nullptr);
 }  // namespace detail
 
 /** \brief Denoises a point cloud with local height-field patches (the cloud variant of
@@ -168,20 +186,33 @@ public:
     viewpoint_ = viewpoint;
     has_viewpoint_ = true;
   }
-  /** Whether an organised input keeps its width × height (default true). */
+  /** Whether an organised input keeps its width × height (default true). A whole organised input
+    * whose grid is a pinhole image (a Kinect or stereo frame) is then processed as a depth image:
+    * points move along their pixels' rays, holes are NaN regions enclosed by one surface, filled in
+    * place, and no point is left in space the sensor saw through (README "Real sensor scans"). */
   void setKeepOrganized(bool keep) { keep_organized_ = keep; }
+  /** The in-place fill of organised inputs (its max_hole_diameter: the completion's, when set). */
+  void setOrganizedFillParameters(const OrganizedFillParameters& parameters) { organized_fill_ = parameters; }
+  const OrganizedFillParameters& getOrganizedFillParameters() const { return organized_fill_; }
 
   /** What the last process() did. */
   const CloudDenoisingReport& getReport() const { return report_; }
   /** Input index of every kept input point of the last output, in output order (to carry data of
     * your own along; an organised output keeps the input's layout, and these are its kept cells).
     * Added points follow the kept ones in an unorganised output; getAddedSources() names, for each,
-    * the input point its other fields (colour…) were copied from. */
+    * the input point its other fields (colour…) were copied from. In an organised output processed
+    * as a depth image, getAddedSources() lists the filled pixels (each keeps its own fields: a
+    * Kinect pixel without depth still has its colour). */
   const pcl::Indices& getKeptIndices() const { return kept_indices_; }
   const pcl::Indices& getAddedSources() const { return added_sources_; }
 
 protected:
   void performProcessing(PointCloudOut& output) override;
+  /** The organised path: denoise along the rays, fill in place, free-space test (depth_image.h).
+    * Points and normals in the sensor's frame; x_output = R·x + o. */
+  void processDepthImage(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals,
+                         const DepthImage& image, const Eigen::Matrix3d& R, const Eigen::Vector3d& o,
+                         PointCloudOut& output);
 
 private:
   using pcl::CloudSurfaceProcessing<PointInT, PointOutT>::input_;
@@ -191,6 +222,7 @@ private:
   Mode mode_ = Mode::Denoise;
   CloudDenoisingParameters parameters_;
   CloudCompletionParameters completion_;
+  OrganizedFillParameters organized_fill_;
   Eigen::Vector3d viewpoint_ = Eigen::Vector3d::Zero();
   bool has_viewpoint_ = false;
   bool keep_organized_ = true;

@@ -22,6 +22,7 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
 {
   report_ = CloudDenoisingReport{};
   kept_indices_.clear();
+  added_sources_.clear();
   const PointCloudIn& input = *input_;
   const auto start = std::chrono::steady_clock::now();
 
@@ -51,6 +52,29 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
                   " points");
     identity = identity && static_cast<std::size_t>(index) == q;
     queries.push_back(static_cast<std::size_t>(index));
+  }
+
+  if (identity && input.height > 1 && keep_organized_) {
+    // The grid is a pinhole image in the cloud's own frame (as grabbers write it), or else in the
+    // frame of its sensor pose (sensor_origin_, sensor_orientation_).
+    const Eigen::Matrix3d pose_R = input.sensor_orientation_.template cast<double>().normalized().toRotationMatrix();
+    const Eigen::Vector3d pose_o = input.sensor_origin_.template head<3>().template cast<double>();
+    for (int frame = 0; frame < 2; ++frame) {
+      const Eigen::Matrix3d R = frame == 0 ? Eigen::Matrix3d::Identity() : pose_R;
+      const Eigen::Vector3d o = frame == 0 ? Eigen::Vector3d::Zero() : pose_o;
+      if (frame == 1 && R.isIdentity(1e-12) && o.isZero(0.0))
+        break;
+      std::vector<Eigen::Vector3d> local(points.size()), local_normals(normals.size());
+      for (std::size_t i = 0; i < points.size(); ++i)
+        local[i] = R.transpose() * (points[i] - o);
+      for (std::size_t i = 0; i < normals.size(); ++i)
+        local_normals[i] = R.transpose() * normals[i];
+      const DepthImage image = makeDepthImage(local, input.width, input.height);
+      if (image.camera.valid) {
+        processDepthImage(local, local_normals, image, R, o, output);
+        return;
+      }
+    }
   }
 
   KdTreePtr tree = tree_;
@@ -187,6 +211,178 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
     output.height = 1;
     output.is_dense = finite_only;
   }
+}
+
+}  // namespace patchdict
+}  // namespace pcl
+
+namespace pcl {
+namespace patchdict {
+
+template <typename PointInT, typename PointOutT>
+void SparsePatchCloudInpainter<PointInT, PointOutT>::processDepthImage(const std::vector<Eigen::Vector3d>& points,
+                                                                      const std::vector<Eigen::Vector3d>& normals,
+                                                                      const DepthImage& image, const Eigen::Matrix3d& R,
+                                                                      const Eigen::Vector3d& o, PointCloudOut& output)
+{
+  const PointCloudIn& input = *input_;
+  const std::size_t W = image.width, H = image.height, n = W * H;
+  const PinholeCamera& camera = image.camera;
+  report_.depth_image = true;
+  report_.camera = camera;
+  report_.off_ray_points = camera.off_ray;
+  report_.input_points = n;
+  report_.nonfinite_points = n - image.measured();  // NaN pixels and off-ray points
+  const auto start = std::chrono::steady_clock::now();
+  report_.depth_noise = estimateDepthNoise(image);
+  report_.seconds_noise = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // Off-ray points are no measurements: from here on, a pixel is its depth image's.
+  std::vector<Eigen::Vector3d> measured(n, Eigen::Vector3d::Constant(nan));
+  std::vector<std::size_t> queries;
+  for (std::size_t i = 0; i < n; ++i)
+    if (image.valid[i]) {
+      measured[i] = points[i];
+      queries.push_back(i);
+    }
+  std::vector<Eigen::Vector3d> position(measured), normal(n, Eigen::Vector3d::Zero());
+  std::vector<char> present(image.valid);
+  const auto ray = [&](std::size_t i) { return camera.pointAt(double(i % W), double(i / W), 1.0); };
+  if (mode_ != Mode::Complete) {
+    if (queries.size() < 100)
+      throw Error("the cloud has " + std::to_string(queries.size()) + " measured pixels; denoising needs at least 100");
+    auto searched = std::make_shared<PointCloudIn>(input);
+    for (std::size_t i = 0; i < n; ++i) {
+      PointInT& p = (*searched)[i];
+      p.x = p.y = p.z = std::numeric_limits<float>::quiet_NaN();
+      if (image.valid[i])
+        p.getVector3fMap() = measured[i].cast<float>();
+    }
+    searched->is_dense = false;
+    KdTreePtr tree = tree_;
+    if (!tree)
+      tree.reset(new pcl::search::KdTree<PointInT>(true));
+    tree->setInputCloud(searched);
+    const pcl::search::Search<PointInT>& search = *tree;
+    const detail::KnnSearch knn = [&](std::size_t q, int k, pcl::Indices& found, std::vector<float>& squared) {
+      search.nearestKSearch((*searched)[q], k, found, squared);
+    };
+    const RadiusNeighbourSearch radius = [&](std::size_t q, double r, int max_nn, pcl::Indices& found,
+                                             std::vector<float>& squared) {
+      search.radiusSearch((*searched)[q], r, found, squared, static_cast<unsigned int>(max_nn));
+    };
+    detail::PointScales scales;
+    for (const std::size_t i : queries) {
+      scales.sigma.push_back(report_.depth_noise.sigma(image.depth[i]));
+      scales.spacing.push_back(camera.pixelSpacing(image.depth[i]));
+    }
+    const bool law = report_.depth_noise.coefficient > 0.0 && parameters_.noise_sigma == 0.0;
+    std::vector<char> kept;
+    std::vector<Eigen::Vector3d> moved, moved_normals;
+    const Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // the fitted camera's centre
+    detail::denoiseCloud(measured, normals, queries, knn, radius, parameters_, true, &origin, kept, moved, moved_normals,
+                         report_, law ? &scales : nullptr);
+    report_.input_points = n;  // the grid's, not only its measured pixels
+    report_.nonfinite_points = n - queries.size();
+    // Each point stays on its pixel's ray, where the ray meets its patch's tangent plane; a point the
+    // sensor would have seen through stays as measured.
+    const FreeSpaceTest free_space(image);
+    for (std::size_t q = 0; q < queries.size(); ++q) {
+      const std::size_t i = queries[q];
+      present[i] = kept[q];
+      if (!kept[q]) {
+        position[i].setConstant(nan);
+        continue;
+      }
+      const Eigen::Vector3d d = ray(i), m = moved[q], nq = moved_normals[q];
+      const double along = nq.dot(d);
+      const double t = std::abs(along) > 0.2 * d.norm() ? nq.dot(m) / along : m.z();
+      position[i] = t * d;
+      normal[i] = nq;
+      if (!(t > 0.0) || free_space.violates(position[i])) {
+        position[i] = measured[i];
+        ++report_.free_space_reverted;
+      }
+    }
+  }
+  std::vector<std::size_t> filled;
+  if (mode_ != Mode::Denoise) {
+    DepthImage source = image;  // the denoised depths, when denoised first
+    for (std::size_t i = 0; i < n; ++i) {
+      source.valid[i] = present[i];
+      source.depth[i] = present[i] ? position[i].z() : nan;
+    }
+    OrganizedFillParameters fill = organized_fill_;
+    if (completion_.max_hole_diameter > 0.0)
+      fill.max_hole_diameter = completion_.max_hole_diameter;
+    std::vector<Eigen::Vector3d> added;
+    const auto fill_start = std::chrono::steady_clock::now();
+    fillOrganizedHoles(source, report_.depth_noise, fill, filled, added, report_.organized_fill);
+    report_.completion.seconds_fill = std::chrono::duration<double>(std::chrono::steady_clock::now() - fill_start).count();
+    for (std::size_t k = 0; k < filled.size(); ++k) {
+      position[filled[k]] = added[k];
+      present[filled[k]] = 1;
+    }
+    // Normals of the filled pixels: central differences over the grid, facing the camera.
+    for (const std::size_t i : filled) {
+      const std::size_t c = i % W, r = i / W;
+      const auto at = [&](std::size_t cc, std::size_t rr) { return present[rr * W + cc] ? position[rr * W + cc] : position[i]; };
+      const Eigen::Vector3d du = at(std::min(W - 1, c + 1), r) - at(c ? c - 1 : 0, r);
+      const Eigen::Vector3d dv = at(c, std::min(H - 1, r + 1)) - at(c, r ? r - 1 : 0);
+      Eigen::Vector3d nrm = du.cross(dv);
+      nrm = nrm.norm() > 0.0 ? nrm.normalized() : Eigen::Vector3d(-ray(i).normalized());
+      normal[i] = nrm.dot(position[i]) > 0.0 ? Eigen::Vector3d(-nrm) : nrm;
+    }
+    report_.points_added = filled.size();
+    report_.completion.points_added = filled.size();
+    report_.completion.holes_filled = report_.organized_fill.holes_filled;
+  }
+  // The output: the input's grid; removed and unmeasured pixels NaN, filled ones placed.
+  std::vector<char> is_filled(n, 0);
+  for (const std::size_t i : filled)
+    is_filled[i] = 1;
+  const auto header = output.header;
+  output.clear();
+  output.header = header;
+  output.sensor_origin_ = input.sensor_origin_;
+  output.sensor_orientation_ = input.sensor_orientation_;
+  output.resize(W, H);
+  const float fnan = std::numeric_limits<float>::quiet_NaN();
+  double displacement = 0.0;
+  std::size_t moved_count = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    PointOutT& out = output[i];
+    pcl::copyPoint(input[i], out);
+    const bool input_kept = mode_ == Mode::Complete && image.valid[i];
+    if (!present[i]) {
+      out.x = out.y = out.z = fnan;
+      if constexpr (pcl::traits::has_normal_v<PointOutT>)
+        out.normal_x = out.normal_y = out.normal_z = fnan;
+      continue;
+    }
+    if (!is_filled[i]) {
+      kept_indices_.push_back(static_cast<pcl::index_t>(i));
+      if (input_kept)
+        continue;  // Complete: the measured points as they are
+      displacement += (position[i] - measured[i]).norm();
+      ++moved_count;
+    } else {
+      added_sources_.push_back(static_cast<pcl::index_t>(i));
+    }
+    const Eigen::Vector3d x = R * position[i] + o, nx = R * normal[i];
+    out.x = static_cast<float>(x.x());
+    out.y = static_cast<float>(x.y());
+    out.z = static_cast<float>(x.z());
+    if constexpr (pcl::traits::has_normal_v<PointOutT>) {
+      out.normal_x = static_cast<float>(nx.x());
+      out.normal_y = static_cast<float>(nx.y());
+      out.normal_z = static_cast<float>(nx.z());
+    }
+  }
+  report_.output_points = kept_indices_.size();
+  report_.mean_displacement = moved_count ? displacement / static_cast<double>(moved_count) : 0.0;
+  report_.normals_computed = pcl::traits::has_normal_v<PointOutT>;
+  output.is_dense = kept_indices_.size() + added_sources_.size() == n;
 }
 
 }  // namespace patchdict
