@@ -3,6 +3,7 @@
 #include "cli.h"
 
 #include <pcl_patchdict/error.h>
+#include <pcl_patchdict/gross_outliers.h>
 #include <pcl_patchdict/mesh_io.h>
 
 #include <pcl/conversions.h>
@@ -119,33 +120,38 @@ CloudInput loadCloudInput(const std::string& path)
         findScalarField(input.blob, "normal_y"), findScalarField(input.blob, "normal_z")};
     input.has_normals = fields[3] && fields[4] && fields[5];
     const auto value = [&](std::size_t i, int f) { return readScalar(input.blob, i, *fields[f]); };
+    input.positions.resize(cloud.size());
+    for (std::size_t i = 0; i < cloud.size(); ++i)
+      input.positions[i] = Eigen::Vector3d(value(i, 0), value(i, 1), value(i, 2));
+    std::vector<Eigen::Vector3d> clean(input.positions);
+    input.gross_outliers = removeGrossOutliers(clean);
     Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), high = -low;
-    for (std::size_t i = 0; i < cloud.size(); ++i) {
-      const Eigen::Vector3d x(value(i, 0), value(i, 1), value(i, 2));
+    for (const auto& x : clean)
       if (x.allFinite()) {
         low = low.cwiseMin(x);
         high = high.cwiseMax(x);
       }
-    }
     // An organised frame is kept in its own (sensor) frame, where its grid is a pinhole image, unless
     // it lies far from its origin (georeferenced), where float32 would lose its precision.
     const bool sensor_frame = input.blob.height > 1 && (0.5 * (low + high)).norm() < 1e4;
     if (low.allFinite() && !sensor_frame)
       input.offset = 0.5 * (low + high);
-    input.positions.resize(cloud.size());
     for (std::size_t i = 0; i < cloud.size(); ++i) {
-      double v[6] = {0, 0, 0, 0, 0, 0};
-      for (int f = 0; f < (input.has_normals ? 6 : 3); ++f)
-        v[f] = value(i, f);
-      input.positions[i] = Eigen::Vector3d(v[0], v[1], v[2]);
+      const Eigen::Vector3d x = clean[i] - input.offset;
       pcl::PointNormal& p = cloud[i];
-      p.x = static_cast<float>(v[0] - input.offset.x());
-      p.y = static_cast<float>(v[1] - input.offset.y());
-      p.z = static_cast<float>(v[2] - input.offset.z());
-      const bool normal_ok = std::isfinite(v[3]) && std::isfinite(v[4]) && std::isfinite(v[5]);
-      p.normal_x = normal_ok ? static_cast<float>(v[3]) : 0.0f;
-      p.normal_y = normal_ok ? static_cast<float>(v[4]) : 0.0f;
-      p.normal_z = normal_ok ? static_cast<float>(v[5]) : 0.0f;
+      p.x = static_cast<float>(x.x());
+      p.y = static_cast<float>(x.y());
+      p.z = static_cast<float>(x.z());
+      double nx = 0, ny = 0, nz = 0;
+      if (input.has_normals) {
+        nx = value(i, 3);
+        ny = value(i, 4);
+        nz = value(i, 5);
+      }
+      const bool normal_ok = std::isfinite(nx) && std::isfinite(ny) && std::isfinite(nz);
+      p.normal_x = normal_ok ? static_cast<float>(nx) : 0.0f;
+      p.normal_y = normal_ok ? static_cast<float>(ny) : 0.0f;
+      p.normal_z = normal_ok ? static_cast<float>(nz) : 0.0f;
       p.curvature = 0.0f;
     }
     cloud.sensor_origin_ = input.origin;  // in the cloud's shifted frame, like its points
@@ -158,18 +164,20 @@ CloudInput loadCloudInput(const std::string& path)
       throw Error("'" + path + "' is a mesh, not a cloud");
     input.has_normals = mesh.hasNormals();
     input.positions = mesh.vertices;
+    std::vector<Eigen::Vector3d> clean(input.positions);
+    input.gross_outliers = removeGrossOutliers(clean);
     cloud.resize(mesh.vertices.size());
-    if (!mesh.vertices.empty()) {
-      Eigen::Vector3d low = mesh.vertices.front(), high = low;
-      for (const auto& v : mesh.vertices) {
+    Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), high = -low;
+    for (const auto& v : clean)
+      if (v.allFinite()) {
         low = low.cwiseMin(v);
         high = high.cwiseMax(v);
       }
+    if (low.allFinite())
       input.offset = 0.5 * (low + high);
-    }
     for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
       pcl::PointNormal& p = cloud[i];
-      const Eigen::Vector3d x = mesh.vertices[i] - input.offset;
+      const Eigen::Vector3d x = clean[i] - input.offset;
       p.x = static_cast<float>(x.x());
       p.y = static_cast<float>(x.y());
       p.z = static_cast<float>(x.z());
@@ -196,9 +204,10 @@ CloudInput loadCloudInput(const std::string& path)
   if (finite == 0)
     throw Error("'" + path + "' holds no finite point");
   cloud.is_dense = finite == cloud.size();
-  input.scale = std::max((high - low).maxCoeff(), 1e-300);
+  input.scale = (high - low).maxCoeff();
   if (!(input.scale > 0.0) || !std::isfinite(input.scale))
-    throw Error("'" + path + "': the points' bounding box is degenerate");
+    throw Error("'" + path + "' " + (finite == 1 ? std::string("holds a single finite point")
+                                                  : "has " + std::to_string(finite) + " finite points, all at one place"));
   return input;
 }
 

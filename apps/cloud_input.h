@@ -42,6 +42,9 @@ struct CloudInput {
   /// keeps their precision even far from the origin (float64 PCDs of georeferenced scans).
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> positions;  ///< the positions as read, in double (NaN kept)
+  /// Finite points no sensor measured (removeGrossOutliers: e.g. a depth of 1e30): NaN in `cloud`,
+  /// never written out.
+  std::size_t gross_outliers = 0;
 };
 
 /** Reads a cloud file; Error (one line) when unreadable, empty, or without a finite point. */

@@ -11,6 +11,7 @@
 #include <pcl/common/io.h>
 #include <pcl/conversions.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
@@ -140,6 +141,8 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
   // Complete mode: the first output points are the input's, to be written exactly as read.
   const std::size_t unchanged = mode == Inpainter::Mode::Complete ? report.output_points : 0;
   const auto position = [&](std::size_t i) {
+    if (i < unchanged && !std::isfinite((*cloud)[static_cast<std::size_t>(records[i])].x))
+      return Eigen::Vector3d(Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));  // NaN or a gross outlier
     return i < unchanged ? input.positions[static_cast<std::size_t>(records[i])]
                          : Eigen::Vector3d(Eigen::Vector3d(denoised[i].x, denoised[i].y, denoised[i].z) + input.offset);
   };
@@ -178,15 +181,22 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
       out.fields = input.blob.fields;
       out.point_step = input.blob.point_step;
       out.is_bigendian = input.blob.is_bigendian;
+      // Gross outliers (finite, but no measurement) are not carried even where the input is kept.
+      std::vector<std::size_t> rows;
+      for (std::size_t i = 0; i < records.size(); ++i)
+        if (i >= unchanged || std::isfinite((*cloud)[static_cast<std::size_t>(records[i])].x) ||
+            !input.positions[static_cast<std::size_t>(records[i])].allFinite())
+          rows.push_back(i);
       out.height = 1;
-      out.width = static_cast<std::uint32_t>(records.size());
+      out.width = static_cast<std::uint32_t>(rows.size());
       out.row_step = out.point_step * out.width;
       out.data.resize(static_cast<std::size_t>(out.row_step));
-      for (std::size_t i = 0; i < records.size(); ++i) {
-        std::memcpy(out.data.data() + i * out.point_step,
+      for (std::size_t k = 0; k < rows.size(); ++k) {
+        const std::size_t i = rows[k];
+        std::memcpy(out.data.data() + k * out.point_step,
                     input.blob.data.data() + static_cast<std::size_t>(records[i]) * input.blob.point_step, out.point_step);
         if (i >= unchanged)  // Complete keeps the input's records as they are
-          writePoint(out, i, denoised[i]);
+          writePoint(out, k, denoised[i]);
       }
       out.is_dense = denoised.is_dense;
     }

@@ -71,6 +71,11 @@ struct CloudDenoisingReport {
   /// noise_sigma and bandwidth are then the medians of σ_i and h_i, mean_spacing the mean s_i.
   bool depth_law = false;
   double bandwidth_factor = 0.0;       ///< h / s
+  /// Depth law, automatic h: correlation of the noise heights at 0.5, 1, … 6 spacings (bins of half
+  /// a spacing), and κ, the mean correlation-weighted neighbour count at the chosen h that
+  /// multiplies the leverage in the risk (1 for white noise).
+  std::vector<double> noise_correlation;
+  double correlation_sum = 0.0;
   struct BandwidthRisk {
     double factor = 0.0;           ///< h / s
     double risk = 0.0;             ///< estimated mean squared height error
@@ -91,6 +96,8 @@ struct CloudDenoisingReport {
   PinholeCamera camera;
   DepthNoiseModel depth_noise;
   OrganizedFillReport organized_fill;
+  std::size_t duplicate_points = 0;     ///< exact copies of an earlier point: they follow it
+  std::size_t gross_outliers = 0;       ///< finite points no sensor measured (removeGrossOutliers): NaN
   std::size_t off_ray_points = 0;       ///< finite points far from their pixel's ray: not points (NaN)
   std::size_t free_space_reverted = 0;  ///< denoised points the sensor saw through: kept as measured
 };

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <pcl_patchdict/error.h>
+#include <pcl_patchdict/gross_outliers.h>
 #include <pcl_patchdict/sparse_patch_cloud_inpainter.h>
 
 #include <pcl/common/copy_point.h>
@@ -33,6 +34,7 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
     if (!points[i].allFinite())
       points[i].setConstant(std::numeric_limits<double>::quiet_NaN());
   }
+  report_.gross_outliers = removeGrossOutliers(points);
   std::vector<Eigen::Vector3d> normals;
   if constexpr (pcl::traits::has_normal_v<PointInT>) {
     normals.resize(input.size(), Eigen::Vector3d::Zero());
@@ -80,21 +82,47 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
   KdTreePtr tree = tree_;
   if (!tree)
     tree.reset(new pcl::search::KdTree<PointInT>(true));
-  // A cloud with NaN points must say so, or FLANN indexes them.
-  bool dense = true;
-  for (const auto& p : points)
-    dense = dense && p.allFinite();
+  // Exact copies of a position carry nothing new and make the spacing 0: the first of each is
+  // processed, the others follow it.
+  const std::vector<std::size_t> first = firstCopies(points);
+  std::vector<std::size_t> run_queries, slot(queries.size());
+  {
+    std::vector<std::size_t> slot_of(points.size(), std::numeric_limits<std::size_t>::max());
+    for (std::size_t q = 0; q < queries.size(); ++q) {
+      const std::size_t rep = first[queries[q]];
+      if (slot_of[rep] == std::numeric_limits<std::size_t>::max()) {
+        slot_of[rep] = run_queries.size();
+        run_queries.push_back(rep);
+      }
+      slot[q] = slot_of[rep];
+    }
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (first[i] != i) {
+        points[i].setConstant(std::numeric_limits<double>::quiet_NaN());
+        ++report_.duplicate_points;
+      }
+  }
+  // A cloud with NaN points must say so, or FLANN indexes them; gross outliers and copies are NaN.
+  bool dense = true, changed = false;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    dense = dense && points[i].allFinite();
+    changed = changed || (!points[i].allFinite() && std::isfinite(input[i].x) && std::isfinite(input[i].y) &&
+                          std::isfinite(input[i].z));
+  }
   typename PointCloudIn::ConstPtr searched = input_;
-  if (!dense && input.is_dense) {
+  if ((!dense && input.is_dense) || changed) {
     auto copy = std::make_shared<PointCloudIn>(input);
     copy->is_dense = false;
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (!points[i].allFinite())
+        (*copy)[i].x = (*copy)[i].y = (*copy)[i].z = std::numeric_limits<float>::quiet_NaN();
     searched = copy;
   }
   std::size_t finite = 0;
-  for (const std::size_t q : queries)
-    finite += (q < points.size() && points[q].allFinite()) ? 1 : 0;
+  for (const std::size_t q : run_queries)
+    finite += points[q].allFinite() ? 1 : 0;
   if (finite < 100)
-    throw Error("the cloud has " + std::to_string(finite) + " finite points; denoising needs at least 100");
+    throw Error("the cloud has " + std::to_string(finite) + " distinct finite points; denoising needs at least 100");
   tree->setInputCloud(searched);
   const pcl::search::Search<PointInT>& search = *tree;
   const detail::KnnSearch knn = [&](std::size_t query, int k, pcl::Indices& found, std::vector<float>& squared) {
@@ -116,20 +144,21 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
   std::vector<char> kept;
   std::vector<Eigen::Vector3d> moved, moved_normals;
   const bool completing = mode_ != Mode::Denoise;
-  detail::denoiseCloud(points, normals, queries, knn, radius, parameters_,
+  detail::denoiseCloud(points, normals, run_queries, knn, radius, parameters_,
                        pcl::traits::has_normal_v<PointOutT> || completing, use_viewpoint ? &viewpoint : nullptr, kept,
                        moved, moved_normals, report_);
+  report_.input_points = queries.size();
   std::vector<Eigen::Vector3d> added, added_normals;
   std::vector<std::size_t> added_source;
   added_sources_.clear();
   if (completing) {
     std::vector<Eigen::Vector3d> surface, surface_normals;
     std::vector<std::size_t> owner;
-    for (std::size_t q = 0; q < queries.size(); ++q)
+    for (std::size_t q = 0; q < run_queries.size(); ++q)
       if (kept[q]) {
         surface.push_back(moved[q]);
         surface_normals.push_back(moved_normals[q]);
-        owner.push_back(queries[q]);
+        owner.push_back(run_queries[q]);
       }
     CloudCompletionParameters completion = completion_;
     completion.num_threads = parameters_.num_threads;
@@ -138,6 +167,19 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
     report_.points_added = added.size();
     for (std::size_t& source : added_source)
       source = owner[source];
+  }
+  if (run_queries.size() != queries.size()) {  // copies follow their first
+    std::vector<char> all_kept(queries.size());
+    std::vector<Eigen::Vector3d> all_moved(queries.size()), all_normals(queries.size());
+    for (std::size_t q = 0; q < queries.size(); ++q) {
+      all_kept[q] = kept[slot[q]];
+      all_moved[q] = moved[slot[q]];
+      all_normals[q] = moved_normals[slot[q]];
+    }
+    report_.output_points = static_cast<std::size_t>(std::count(all_kept.begin(), all_kept.end(), 1));
+    kept.swap(all_kept);
+    moved.swap(all_moved);
+    moved_normals.swap(all_normals);
   }
   // Complete: the output is the input, unchanged and whole (outliers and NaN points too), followed
   // by the new points; outliers were only kept out of the surface the holes were filled from, and
@@ -170,9 +212,9 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
   };
   const auto fill = [&](std::size_t q, PointOutT& out) {
     pcl::copyPoint(input[queries[q]], out);
-    if (keep_input)
+    if (keep_input && points[first[queries[q]]].allFinite())
       return;
-    if (!kept[q]) {
+    if (!kept[q] || keep_input) {  // removed, or no measurement (NaN, a gross outlier)
       out.x = out.y = out.z = nan;
       if constexpr (pcl::traits::has_normal_v<PointOutT>)
         out.normal_x = out.normal_y = out.normal_z = nan;
