@@ -55,7 +55,7 @@ std::set<std::string> cloudValueOptions(bool fill)
   auto values = commonValueOptions();
   values.insert({"output", "noise", "bandwidth", "outlier-neighbours", "outlier-std", "residual-outliers", "dict"});
   if (fill)
-    values.insert({"max-hole-diameter", "rim-width", "max-hole-pixels", "fit-ring"});
+    values.insert({"max-hole-diameter", "rim-width", "max-hole-pixels", "fit-ring", "height-field"});
   return values;
 }
 

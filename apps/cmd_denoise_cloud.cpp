@@ -94,13 +94,20 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
     inpainter.setParameters(parameters);
     inpainter.setMode(static_cast<typename std::decay_t<decltype(inpainter)>::Mode>(static_cast<int>(mode)));
     CloudCompletionParameters completion;
-    completion.max_hole_diameter = max_hole_diameter * scale;
+    // Not given: each fill's own bound (Poisson's gaps 0.15 × the largest side, a depth image's
+    // max_hole_pixels, a height field's 150 spacings).
+    completion.max_hole_diameter = args.has("max-hole-diameter") ? max_hole_diameter * scale : 0.0;
     completion.rim_width = args.getDouble("rim-width", completion.rim_width, 0.05, 10.0);
     inpainter.setCompletionParameters(completion);
     OrganizedFillParameters organized;
     organized.max_hole_pixels = static_cast<std::size_t>(args.getInt("max-hole-pixels", 2000, 1, 100000000));
     organized.fit_ring = static_cast<int>(args.getInt("fit-ring", 0, 0, 64));
     inpainter.setOrganizedFillParameters(organized);
+    const std::string height_field = args.get("height-field", "auto");
+    if (height_field != "auto" && height_field != "yes" && height_field != "no")
+      throw UsageError("--height-field must be auto, yes or no");
+    using Choice = typename std::decay_t<decltype(inpainter)>::HeightField;
+    inpainter.setHeightField(height_field == "yes" ? Choice::Always : height_field == "no" ? Choice::Never : Choice::Auto);
     inpainter.process(out);
     report = inpainter.getReport();
     records = inpainter.getKeptIndices();
@@ -126,7 +133,23 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
                 report.noise_sigma / report.mean_spacing, report.bandwidth / report.mean_spacing, removed,
                 report.outlier_filter_removed, report.residual_removed, report.unfit_removed);
   note(quiet, line);
-  if (fill) {
+  if (fill && report.depth_image) {
+    const OrganizedFillReport& f = report.organized_fill;
+    std::snprintf(line, sizeof line,
+                  "  depth image: %zu regions without depth; %zu holes filled (%zu pixels), %zu at depth "
+                  "discontinuities, %zu open to the border, %zu too large; %zu fills in seen space dropped",
+                  f.regions, f.holes_filled, f.pixels_filled, f.not_one_surface, f.touching_border, f.too_large,
+                  f.free_space_dropped);
+    note(quiet, line);
+  } else if (fill && report.height_field_used) {
+    const HeightFieldFillReport& h = report.height_field;
+    std::snprintf(line, sizeof line,
+                  "  height field (cell %.3g): %zu empty regions; %zu holes filled with %zu points, %zu open to the "
+                  "outside, %zu sampling gaps, %zu too large",
+                  h.cell_size / scale, h.empty_components, h.holes_filled, h.points_added, h.rejected_border,
+                  h.rejected_too_small, h.rejected_too_big);
+    note(quiet, line);
+  } else if (fill) {
     const CloudCompletionReport& c = report.completion;
     std::snprintf(line, sizeof line,
                   "  Poisson depth %d: %zu gaps, %zu holes filled (%zu by implicits, %zu by splines), %zu from Poisson, "
@@ -244,6 +267,17 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
           .add("poisson_depth", c.poisson_depth).add("poisson_faces", c.poisson_faces)
           .add("lattice_spacing", c.lattice_spacing / scale).add("density", c.density * scale * scale);
       json.add("holes", holes);
+    }
+    if (report.height_field_used) {
+      const HeightFieldFillReport& h = report.height_field;
+      JsonObject field;
+      field.add("spacing", h.spacing / scale).add("cell", h.cell_size / scale)
+          .add("raster_width", h.raster_width).add("raster_height", h.raster_height)
+          .add("empty_components", h.empty_components).add("filled", h.holes_filled)
+          .add("open_to_outside", h.rejected_border).add("too_large", h.rejected_too_big)
+          .add("sampling_gaps", h.rejected_too_small).add("without_rim", h.rejected_no_rim)
+          .add("points_added", h.points_added).add("seconds", h.seconds);
+      json.add("height_field", field);
     }
     if (report.depth_image) {
       // An organised frame processed as a depth image: its camera, noise law, fill and free space.

@@ -225,6 +225,14 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
     sample_q.push_back(kept_queries[j]);
   }
   std::vector<LocalQuadricFit> sample_fits;
+  // Depth law: at h = factor × s_i the max_neighbours nearest lie within √(max/π) s_i on a surface
+  // facing the camera; the search stops at 1.5 times that (2h when less: the usual support), which
+  // keeps every one of them up to 64° of incidence and spares the search the ring it would discard.
+  const auto capped = [&](LocalQuadricParameters p, double factor) {
+    const double cap = 1.5 * std::sqrt(static_cast<double>(parameters.max_neighbours) / M_PI) / factor;
+    p.support_factor = std::clamp(cap, 1.0, p.support_factor);
+    return p;
+  };
   // With a depth law, σ_i and s_i are the point's own (σ_i: the given σ instead, when there is one).
   const auto sigma_of = [&](std::size_t q) { return parameters.noise_sigma > 0.0 ? parameters.noise_sigma : scales->sigma[q]; };
   if (scales) {
@@ -270,17 +278,89 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
     double best = std::numeric_limits<double>::infinity();
     const double clip = 16.0 * sigma * sigma;
     std::vector<double> sample_h;
+    // Depth sensors' noise is correlated between neighbouring pixels (disparity matched over a
+    // window, quantised in layers): the fit's covariance with a point's own noise is then
+    // σ_i² Σ_j S_ij ρ_ij rather than σ_i² S_ii. The smoother is flat near its query (S_ij ≈ S_ii w_j),
+    // so that is σ_i² S_ii κ_i(h), κ_i(h) = Σ_j exp(−d_ij²/h²) ρ(d_ij / s_i) over the query's
+    // kCorrelationNeighbours nearest (itself included, ρ(0) = 1). ρ is measured on the sample: the
+    // heights of those neighbours over the tangent plane of the query's patch at 3 s_i, correlated
+    // with the query's own, in bins of half a spacing (the pilot patch follows part of the
+    // correlated noise: ρ comes out low rather than high). Heights are clipped at 4 σ_i.
+    constexpr int kCorrelationNeighbours = 48, kBins = 12;  // bins cover 6 spacings
+    std::vector<std::vector<std::pair<double, int>>> sample_neighbours;  // (d / s_i, bin)
+    std::vector<double> rho(kBins, 0.0);
+    if (scales) {
+      const double widest = *std::max_element(parameters.bandwidth_candidates.begin(), parameters.bandwidth_candidates.end());
+      std::vector<double> pilot_h(sample.size());
+      for (std::size_t j = 0; j < sample.size(); ++j)
+        pilot_h[j] = widest * scales->spacing[sample_q[j]];
+      fitAtBandwidths(points, usable, radius, sample, pilot_h, capped(fit_parameters, widest), false, sample_fits);
+      sample_neighbours.assign(sample.size(), {});
+      std::vector<double> products(sample.size() * kBins, 0.0), own(sample.size(), 0.0);
+      std::vector<int> pairs(sample.size() * kBins, 0);
+#pragma omp parallel num_threads(threads)
+      {
+        pcl::Indices found;
+        std::vector<float> squared;
+#pragma omp for schedule(dynamic, 256)
+        for (std::ptrdiff_t t = 0; t < static_cast<std::ptrdiff_t>(sample.size()); ++t) {
+          const auto j = static_cast<std::size_t>(t);
+          const LocalQuadricFit& fit = sample_fits[j];
+          if (!fit.valid)
+            continue;
+          const double sj = scales->spacing[sample_q[j]], limit = 4.0 * sigma_of(sample_q[j]);
+          const auto height = [&](const Eigen::Vector3d& p) {
+            return std::clamp(fit.normal.dot(p - fit.position), -limit, limit) / sigma_of(sample_q[j]);
+          };
+          const double e0 = height(points[sample[j]]);
+          own[j] = e0 * e0;
+          knn(sample[j], kCorrelationNeighbours, found, squared);
+          for (std::size_t k = 0; k < found.size(); ++k) {
+            const auto other = static_cast<std::size_t>(found[k]);
+            if (other == sample[j] || !usable[other])
+              continue;
+            const double d = std::sqrt(static_cast<double>(squared[k])) / sj;
+            const int bin = static_cast<int>(2.0 * d);
+            if (bin >= kBins)
+              continue;
+            sample_neighbours[j].push_back({d, bin});
+            products[j * kBins + static_cast<std::size_t>(bin)] += e0 * height(points[other]);
+            ++pairs[j * kBins + static_cast<std::size_t>(bin)];
+          }
+        }
+      }
+      double own_sum = 0.0;
+      std::vector<double> bin_sum(kBins, 0.0);
+      std::vector<double> bin_pairs(kBins, 0.0);
+      std::size_t own_count = 0;
+      for (std::size_t j = 0; j < sample.size(); ++j) {
+        if (!sample_fits[j].valid)
+          continue;
+        own_sum += own[j];
+        ++own_count;
+        for (int b = 0; b < kBins; ++b) {
+          bin_sum[static_cast<std::size_t>(b)] += products[j * kBins + static_cast<std::size_t>(b)];
+          bin_pairs[static_cast<std::size_t>(b)] += pairs[j * kBins + static_cast<std::size_t>(b)];
+        }
+      }
+      const double variance = own_count ? own_sum / static_cast<double>(own_count) : 0.0;
+      for (int b = 0; b < kBins; ++b)
+        if (bin_pairs[static_cast<std::size_t>(b)] > 0.0 && variance > 0.0)
+          rho[static_cast<std::size_t>(b)] =
+              std::clamp(bin_sum[static_cast<std::size_t>(b)] / bin_pairs[static_cast<std::size_t>(b)] / variance, 0.0, 1.0);
+      report.noise_correlation.assign(rho.begin(), rho.end());
+    }
     for (const double factor : parameters.bandwidth_candidates) {
       if (scales) {
         sample_h.resize(sample.size());
         for (std::size_t j = 0; j < sample.size(); ++j)
           sample_h[j] = factor * scales->spacing[sample_q[j]];
-        fitAtBandwidths(points, usable, radius, sample, sample_h, fit_parameters, false, sample_fits);
+        fitAtBandwidths(points, usable, radius, sample, sample_h, capped(fit_parameters, factor), false, sample_fits);
       } else {
         fit_parameters.bandwidth = factor * s;
         fitLocalQuadrics(points, usable, radius, sample, fit_parameters, false, sample_fits);
       }
-      double squared = 0.0, leverage = 0.0, risk_sum = 0.0;
+      double squared = 0.0, leverage = 0.0, risk_sum = 0.0, kappa_sum = 0.0;
       std::size_t counted = 0;
       for (std::size_t j = 0; j < sample_fits.size(); ++j) {
         const LocalQuadricFit& fit = sample_fits[j];
@@ -289,9 +369,13 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
         if (scales) {
           const double sj2 = sigma_of(sample_q[j]) * sigma_of(sample_q[j]);
           const double r2 = std::min(fit.residual * fit.residual, 16.0 * sj2) / sj2;
+          double kappa = 1.0;
+          for (const auto& [d, bin] : sample_neighbours[j])
+            kappa += std::exp(-d * d / (factor * factor)) * rho[static_cast<std::size_t>(bin)];
+          kappa_sum += kappa;
           squared += r2;
           leverage += fit.leverage;
-          risk_sum += r2 - 1.0 + 2.0 * parameters.leverage_weight * fit.leverage;
+          risk_sum += r2 - 1.0 + 2.0 * parameters.leverage_weight * fit.leverage * kappa;
         } else {
           squared += std::min(fit.residual * fit.residual, clip);
           leverage += fit.leverage;
@@ -308,6 +392,7 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
         best = risk;
         report.bandwidth = factor * s;
         factor_used = factor;
+        report.correlation_sum = kappa_sum / n;
       }
     }
     if (!(report.bandwidth > 0.0))
@@ -343,7 +428,8 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
     fit_queries[j] = queries[kept_queries[j]];
   std::vector<LocalQuadricFit> fits;
   if (scales)
-    fitAtBandwidths(points, usable, radius, fit_queries, point_h, fit_parameters, false, fits);
+    fitAtBandwidths(points, usable, radius, fit_queries, point_h,
+                    factor_used > 0.0 ? capped(fit_parameters, factor_used) : fit_parameters, false, fits);
   else
     fitLocalQuadrics(points, usable, radius, fit_queries, fit_parameters, false, fits);
   // Points with too few neighbours at h (sparse spots, rims) try twice and four times h.

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <pcl_patchdict/cloud_hole_completion.h>
+#include <pcl_patchdict/height_field_hole_filling.h>
 #include <pcl_patchdict/local_quadric_projection.h>
 #include <pcl_patchdict/organized_hole_filling.h>
 
@@ -96,6 +97,9 @@ struct CloudDenoisingReport {
   PinholeCamera camera;
   DepthNoiseModel depth_noise;
   OrganizedFillReport organized_fill;
+  /// An unorganised 2.5-D cloud (isHeightFieldCloud) completed over its plane (Complete modes).
+  bool height_field_used = false;
+  HeightFieldFillReport height_field;
   std::size_t duplicate_points = 0;     ///< exact copies of an earlier point: they follow it
   std::size_t gross_outliers = 0;       ///< finite points no sensor measured (removeGrossOutliers): NaN
   std::size_t off_ray_points = 0;       ///< finite points far from their pixel's ray: not points (NaN)
@@ -198,6 +202,15 @@ public:
     * points move along their pixels' rays, holes are NaN regions enclosed by one surface, filled in
     * place, and no point is left in space the sensor saw through (README "Real sensor scans"). */
   void setKeepOrganized(bool keep) { keep_organized_ = keep; }
+  /** Unorganised clouds in the Complete modes: Auto completes a 2.5-D cloud (isHeightFieldCloud:
+    * aerial LiDAR, terrain) as a height field over its dominant plane, at its density, and any other
+    * through Poisson's gaps (completeCloudHoles); Always and Never force one of the two. */
+  enum class HeightField { Auto, Always, Never };
+  void setHeightField(HeightField choice) { height_field_ = choice; }
+  HeightField getHeightField() const { return height_field_; }
+  /** The height-field fill (its max_hole_diameter: the completion's, when set; its up direction:
+    * the cloud's dominant one under Auto). */
+  void setHeightFieldFillParameters(const HeightFieldFillParameters& parameters) { height_field_fill_ = parameters; }
   /** The in-place fill of organised inputs (its max_hole_diameter: the completion's, when set). */
   void setOrganizedFillParameters(const OrganizedFillParameters& parameters) { organized_fill_ = parameters; }
   const OrganizedFillParameters& getOrganizedFillParameters() const { return organized_fill_; }
@@ -230,6 +243,8 @@ private:
   CloudDenoisingParameters parameters_;
   CloudCompletionParameters completion_;
   OrganizedFillParameters organized_fill_;
+  HeightField height_field_ = HeightField::Auto;
+  HeightFieldFillParameters height_field_fill_;
   Eigen::Vector3d viewpoint_ = Eigen::Vector3d::Zero();
   bool has_viewpoint_ = false;
   bool keep_organized_ = true;

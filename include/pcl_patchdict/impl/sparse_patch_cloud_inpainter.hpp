@@ -144,9 +144,31 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
   std::vector<char> kept;
   std::vector<Eigen::Vector3d> moved, moved_normals;
   const bool completing = mode_ != Mode::Denoise;
-  detail::denoiseCloud(points, normals, run_queries, knn, radius, parameters_,
-                       pcl::traits::has_normal_v<PointOutT> || completing, use_viewpoint ? &viewpoint : nullptr, kept,
-                       moved, moved_normals, report_);
+  // 2.5-D clouds (aerial LiDAR, terrain, facades) are completed as height fields over their plane.
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  bool height_field = false;
+  if (completing && height_field_ != HeightField::Never) {
+    std::vector<Eigen::Vector3d> sample;
+    for (const std::size_t q : run_queries)
+      if (points[q].allFinite())
+        sample.push_back(points[q]);
+    height_field = isHeightFieldCloud(sample, &up) || height_field_ == HeightField::Always;
+  }
+  report_.height_field_used = height_field;
+  if (height_field && mode_ == Mode::Complete) {  // the fill fits its own rims: no patches needed
+    kept.assign(run_queries.size(), 0);
+    moved.assign(run_queries.size(), Eigen::Vector3d::Zero());
+    moved_normals.assign(run_queries.size(), up);
+    for (std::size_t q = 0; q < run_queries.size(); ++q) {
+      kept[q] = points[run_queries[q]].allFinite();
+      moved[q] = points[run_queries[q]];
+    }
+    report_.output_points = static_cast<std::size_t>(std::count(kept.begin(), kept.end(), 1));
+  } else {
+    detail::denoiseCloud(points, normals, run_queries, knn, radius, parameters_,
+                         pcl::traits::has_normal_v<PointOutT> || completing, use_viewpoint ? &viewpoint : nullptr, kept,
+                         moved, moved_normals, report_);
+  }
   report_.input_points = queries.size();
   std::vector<Eigen::Vector3d> added, added_normals;
   std::vector<std::size_t> added_source;
@@ -160,10 +182,23 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
         surface_normals.push_back(moved_normals[q]);
         owner.push_back(run_queries[q]);
       }
-    CloudCompletionParameters completion = completion_;
-    completion.num_threads = parameters_.num_threads;
-    completeCloudHoles(surface, surface_normals, report_.mean_spacing, completion, added, added_normals, added_source,
-                       report_.completion);
+    if (height_field) {
+      HeightFieldFillParameters fill = height_field_fill_;
+      if (height_field_ == HeightField::Auto)
+        fill.up = up;
+      if (completion_.max_hole_diameter > 0.0)
+        fill.max_hole_diameter = completion_.max_hole_diameter;
+      fillHeightFieldHoles(surface, fill, added, added_source, report_.height_field);
+      added_normals.assign(added.size(), report_.height_field.up);
+      report_.completion.points_added = added.size();
+      report_.completion.holes_filled = report_.height_field.holes_filled;
+      report_.completion.seconds_fill = report_.height_field.seconds;
+    } else {
+      CloudCompletionParameters completion = completion_;
+      completion.num_threads = parameters_.num_threads;
+      completeCloudHoles(surface, surface_normals, report_.mean_spacing, completion, added, added_normals, added_source,
+                         report_.completion);
+    }
     report_.points_added = added.size();
     for (std::size_t& source : added_source)
       source = owner[source];
