@@ -106,6 +106,8 @@ void note(bool quiet, const std::string& text);
 // Subcommands: each returns the process exit code.
 int runHelp(const std::vector<std::string>& args);
 int runInfo(const std::vector<std::string>& args);
+/** info on a cloud file (called by runInfo). */
+int runCloudInfo(const Arguments& args);
 int runEval(const std::vector<std::string>& args);
 int runDemo(const std::vector<std::string>& args);
 int runLearn(const std::vector<std::string>& args);

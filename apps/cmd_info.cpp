@@ -1,5 +1,6 @@
-// `pcl_patchdict info IN`: what a mesh is, and what is wrong with it.
+// `pcl_patchdict info IN`: what a mesh is, and what is wrong with it (clouds: cmd_info_cloud.cpp).
 #include "cli.h"
+#include "cloud_input.h"
 
 #include <pcl_patchdict/mesh_hygiene.h>
 
@@ -14,6 +15,8 @@ int runInfo(const std::vector<std::string>& raw)
   const Arguments args(raw, commonValueOptions(), commonFlagOptions());
   args.expectPositionals(1, 1, "pcl_patchdict info IN [--json]");
   applyCommonOptions(args);
+  if (isCloudFile(args.positionals()[0]))
+    return runCloudInfo(args);
   ReadInfo read_info;
   const TriangleMesh mesh = loadMesh(args.positionals()[0], true, &read_info);
   const MeshHygieneReport report = inspectMesh(mesh);

@@ -1,6 +1,8 @@
 // Depth images of organised clouds (see depth_image.h).
 #include <pcl_patchdict/depth_image.h>
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -98,6 +100,15 @@ DepthImage makeDepthImage(const std::vector<Eigen::Vector3d>& points, std::size_
   if (!fitAxis(points, width, height, true, max_reprojection, camera.fx, camera.cx) ||
       !fitAxis(points, width, height, false, max_reprojection, camera.fy, camera.cy))
     return image;
+  // A depth a thousand times off the median is no measurement, even on its ray (the principal
+  // point's ray holds any depth).
+  std::vector<double> depths;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (usable(points[i]))
+      depths.push_back(points[i].z());
+  const double typical = median(depths);
+  if (!std::isfinite(typical))
+    return image;
   double squared = 0.0;
   std::size_t used = 0;
   for (std::size_t row = 0; row < height; ++row)
@@ -105,9 +116,10 @@ DepthImage makeDepthImage(const std::vector<Eigen::Vector3d>& points, std::size_
       const std::size_t i = row * width + column;
       if (!points[i].allFinite())
         continue;
+      const bool plausible = usable(points[i]) && points[i].z() < 1e3 * typical && points[i].z() > 1e-3 * typical;
       const Eigen::Vector2d error =
-          usable(points[i]) ? Eigen::Vector2d(camera.project(points[i]) - Eigen::Vector2d(column, row))
-                            : Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+          plausible ? Eigen::Vector2d(camera.project(points[i]) - Eigen::Vector2d(column, row))
+                    : Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
       if (!(error.cwiseAbs().maxCoeff() <= max_reprojection)) {
         ++camera.off_ray;
         continue;
@@ -139,23 +151,34 @@ DepthNoiseModel estimateDepthNoise(const DepthImage& image, std::size_t stride)
       const double zc = image.at(column, row);
       if (!image.valid[row * W + column])
         continue;
-      double sum = 0.0;
+      // The plane q = a + b·du + c·dv through the measured neighbours (at least 16 of the 24, all
+      // within 5 % of the centre's depth), its value a at the centre, and that prediction's
+      // leverage h = (AᵀA)⁻¹₀₀: the residual's variance is σ²(1 + h).
+      Eigen::Matrix3d AtA = Eigen::Matrix3d::Zero();
+      Eigen::Vector3d Atq = Eigen::Vector3d::Zero();
+      int count = 0;
       bool planar = true;
       for (int dv = -2; dv <= 2 && planar; ++dv)
         for (int du = -2; du <= 2; ++du) {
           if (du == 0 && dv == 0)
             continue;
           const std::size_t i = (row + dv) * W + (column + du);
-          if (!image.valid[i] || std::abs(image.depth[i] - zc) > 0.05 * zc) {
+          if (!image.valid[i])
+            continue;
+          if (std::abs(image.depth[i] - zc) > 0.05 * zc) {
             planar = false;
             break;
           }
-          sum += 1.0 / image.depth[i];
+          const Eigen::Vector3d a(1.0, du, dv);
+          AtA += a * a.transpose();
+          Atq += a / image.depth[i];
+          ++count;
         }
-      if (!planar)
+      if (!planar || count < 16)
         continue;
-      // The 24 neighbours are symmetric about the centre: their plane's value there is their mean.
-      const double r = (1.0 / zc - sum / 24.0) * zc * zc / std::sqrt(1.0 + 1.0 / 24.0);
+      const Eigen::Matrix3d inverse = AtA.inverse();
+      const double predicted = (inverse * Atq)(0), leverage = inverse(0, 0);
+      const double r = (1.0 / zc - predicted) * zc * zc / std::sqrt(1.0 + leverage);
       depths.push_back(zc);
       residuals.push_back(std::abs(r));
     }

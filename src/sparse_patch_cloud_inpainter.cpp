@@ -229,7 +229,7 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
   // facing the camera; the search stops at 1.5 times that (2h when less: the usual support), which
   // keeps every one of them up to 64° of incidence and spares the search the ring it would discard.
   const auto capped = [&](LocalQuadricParameters p, double factor) {
-    const double cap = 1.5 * std::sqrt(static_cast<double>(parameters.max_neighbours) / M_PI) / factor;
+    const double cap = 1.5 * std::sqrt(static_cast<double>(parameters.max_neighbours) / 3.141592653589793) / factor;
     p.support_factor = std::clamp(cap, 1.0, p.support_factor);
     return p;
   };
@@ -582,6 +582,9 @@ template class SparsePatchCloudInpainter<pcl::PointXYZRGB, pcl::PointXYZRGB>;
 template class SparsePatchCloudInpainter<pcl::PointXYZRGB, pcl::PointXYZRGBNormal>;
 template class SparsePatchCloudInpainter<pcl::PointXYZRGBNormal, pcl::PointXYZRGBNormal>;
 template class SparsePatchCloudInpainter<pcl::PointXYZI, pcl::PointXYZI>;
+// Kinect and other RGB-D grabbers' frames.
+template class SparsePatchCloudInpainter<pcl::PointXYZRGBA, pcl::PointXYZRGBA>;
+template class SparsePatchCloudInpainter<pcl::PointXYZRGBA, pcl::PointXYZRGBNormal>;
 
 }  // namespace patchdict
 }  // namespace pcl

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -114,5 +115,73 @@ std::size_t deflatedSize(const std::string& raw)
   return size;
 }
 
+
+SyntheticFrame::SyntheticFrame(std::size_t w, std::size_t h, double focal, double x0, double y0)
+    : width(w), height(h), f(focal), cx(x0), cy(y0), depth(w * h, std::numeric_limits<double>::infinity()),
+      points(w * h, Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()))
+{
+}
+
+void SyntheticFrame::addPlane(const Eigen::Vector3d& normal, double distance)
+{
+  const Eigen::Vector3d n = normal.normalized();
+  for (std::size_t i = 0; i < depth.size(); ++i) {
+    const Eigen::Vector3d ray((static_cast<double>(i % width) - cx) / f, (static_cast<double>(i / width) - cy) / f, 1.0);
+    const double along = n.dot(ray);
+    if (along > 0.0)
+      depth[i] = std::min(depth[i], distance / along);
+  }
+}
+
+void SyntheticFrame::addBox(std::size_t c0, std::size_t c1, std::size_t r0, std::size_t r1, double z)
+{
+  for (std::size_t r = r0; r < r1; ++r)
+    for (std::size_t c = c0; c < c1; ++c)
+      depth[r * width + c] = std::min(depth[r * width + c], z);
+}
+
+Eigen::Vector3d SyntheticFrame::truePoint(std::size_t i) const
+{
+  const double z = depth[i];
+  return {(static_cast<double>(i % width) - cx) * z / f, (static_cast<double>(i / width) - cy) * z / f, z};
+}
+
+void SyntheticFrame::sense(double noise, double step, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  for (std::size_t i = 0; i < depth.size(); ++i) {
+    if (!std::isfinite(depth[i]))
+      continue;
+    double z = depth[i] + noise * depth[i] * depth[i] * gauss(rng);
+    if (step > 0.0)
+      z = 1.0 / (step * std::round(1.0 / (z * step)));
+    points[i] = Eigen::Vector3d((static_cast<double>(i % width) - cx) * z / f, (static_cast<double>(i / width) - cy) * z / f, z);
+  }
+}
+
+void SyntheticFrame::erase(std::size_t c0, std::size_t c1, std::size_t r0, std::size_t r1)
+{
+  for (std::size_t r = r0; r < r1; ++r)
+    for (std::size_t c = c0; c < c1; ++c)
+      points[r * width + c].setConstant(std::numeric_limits<double>::quiet_NaN());
+}
+
+std::vector<std::size_t> SyntheticFrame::disc(double column, double row, double radius) const
+{
+  std::vector<std::size_t> inside;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double dc = static_cast<double>(i % width) - column, dr = static_cast<double>(i / width) - row;
+    if (dc * dc + dr * dr <= radius * radius)
+      inside.push_back(i);
+  }
+  return inside;
+}
+
+void SyntheticFrame::eraseDisc(double column, double row, double radius)
+{
+  for (const std::size_t i : disc(column, row, radius))
+    points[i].setConstant(std::numeric_limits<double>::quiet_NaN());
+}
 
 }  // namespace test_support

@@ -1,8 +1,11 @@
 // Helpers shared by the test suites: temporary directories and running the pcl_patchdict tool.
 #pragma once
 
+#include <Eigen/Core>
+
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace test_support {
 
@@ -44,6 +47,26 @@ bool isOneLine(const std::string& text);
 bool endsWithOneErrorLine(const std::string& err);
 /** The path in single quotes, for runTool's shell command line. */
 std::string q(const std::string& path);
+
+/** A synthetic organised depth frame (pinhole camera, row-major pixels): true depths from planes and
+  * boxes (the nearest surface wins), then sensed as a structured-light sensor does — Gaussian depth
+  * noise of σ = noise·z² and depth quantised in steps of `step` in 1/z — and NaN where erased. */
+struct SyntheticFrame {
+  SyntheticFrame(std::size_t width, std::size_t height, double f, double cx, double cy);
+  std::size_t width, height;
+  double f, cx, cy;
+  std::vector<double> depth;            ///< truth; +inf where no surface
+  std::vector<Eigen::Vector3d> points;  ///< sensed (after sense()); NaN where nothing was measured
+  /** The plane n·x = distance (n normalised here). */
+  void addPlane(const Eigen::Vector3d& normal, double distance);
+  /** A face at depth z facing the camera over columns [c0, c1) and rows [r0, r1). */
+  void addBox(std::size_t c0, std::size_t c1, std::size_t r0, std::size_t r1, double z);
+  void sense(double noise, double step, unsigned seed);
+  void erase(std::size_t c0, std::size_t c1, std::size_t r0, std::size_t r1);
+  void eraseDisc(double column, double row, double radius);
+  std::vector<std::size_t> disc(double column, double row, double radius) const;
+  Eigen::Vector3d truePoint(std::size_t pixel) const;
+};
 
 /** Directory of the bundled data (data/) and test fixtures (test/data). */
 std::string dataDir();

@@ -43,7 +43,8 @@ struct DepthImage {
   * points within max_reprojection pixels) and builds the depth image. Points off their ray (e.g. a
   * depth of 1e30 written into a frame) are counted in camera.off_ray and left out of the image.
   * camera.valid is false when fewer than 16 points remain or the grid is no pinhole image (RMS
-  * reprojection above max_reprojection / 2): the cloud is then handled as unorganised. */
+  * reprojection above max_reprojection / 2): the cloud is then handled as unorganised. A depth
+  * beyond 1000× (or below 1/1000 of) the median depth counts as off its ray too. */
 DepthImage makeDepthImage(const std::vector<Eigen::Vector3d>& points, std::size_t width, std::size_t height,
                           double max_reprojection = 1.5);
 
@@ -58,10 +59,11 @@ struct DepthNoiseModel {
   double sigma(double z) const;
 };
 
-/** Estimates the depth noise from the scan: in every 5 × 5 window of measured pixels (sampled on a
-  * stride) whose depths lie within 5 % of the centre's, the centre's depth is predicted by a plane
-  * fitted to its 24 neighbours in 1/z over (column, row) — a plane seen in perspective is affine in
-  * 1/z — and the residual, divided by √(1 + 1/24) for the prediction's own variance, is one sample.
+/** Estimates the depth noise from the scan: in every 5 × 5 window (sampled on a stride) with at
+  * least 16 measured neighbours, all within 5 % of the centre's depth, the centre's depth is
+  * predicted by a plane fitted to them in 1/z over (column, row) — a plane seen in perspective is
+  * affine in 1/z — and the residual, divided by √(1 + h) for the prediction's own variance (h its
+  * leverage, 1/24 with every neighbour), is one sample.
   * Depth quantisation steps enter the residuals: they are noise, not detail. The exponent comes from
   * the medians of six depth bins (log-log slope, clamped to [0, 3]) when the 95th/5th depth ratio is
   * at least 1.5; the coefficient is 1.4826 × the median of |r| / z^p (robust to edges and corners). */
