@@ -92,6 +92,10 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
   const auto run = [&](auto& inpainter, auto& out) {
     inpainter.setInputCloud(cloud);
     inpainter.setParameters(parameters);
+    // An unorganised PCD whose VIEWPOINT is not the default one was seen from there.
+    if (cloud->height <= 1 && input.from_pcd &&
+        (!input.origin.head<3>().isZero() || !input.orientation.isApprox(Eigen::Quaternionf::Identity())))
+      inpainter.setViewpoint((input.origin.head<3>().cast<double>() - input.offset).eval());
     inpainter.setMode(static_cast<typename std::decay_t<decltype(inpainter)>::Mode>(static_cast<int>(mode)));
     CloudCompletionParameters completion;
     // Not given: each fill's own bound (Poisson's gaps 0.15 × the largest side, a depth image's
@@ -301,6 +305,8 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
       }
       json.add("depth_image", image);
     }
+    if (fill && !report.depth_image)
+      json.add("free_space_dropped", report.free_space_dropped);
     json.add("removed_as_outliers", removed);
     json.add("removed_by_prefilter", report.outlier_filter_removed)
         .add("removed_off_patch", report.residual_removed)

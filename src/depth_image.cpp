@@ -264,5 +264,70 @@ bool FreeSpaceTest::violates(const Eigen::Vector3d& p) const
   return p.z() < seen - tolerance;
 }
 
+ViewpointFreeSpaceTest::ViewpointFreeSpaceTest(const std::vector<Eigen::Vector3d>& points,
+                                               const Eigen::Vector3d& viewpoint, double spacing,
+                                               double spacing_factor, double relative_range)
+    : viewpoint_(viewpoint), spacing_(spacing), spacing_factor_(spacing_factor), relative_range_(relative_range)
+{
+  std::vector<double> ranges;
+  for (const auto& p : points)
+    if (p.allFinite() && (p - viewpoint).norm() > 0.0)
+      ranges.push_back((p - viewpoint).norm());
+  if (ranges.empty() || !(spacing > 0.0))
+    return;
+  // No wider than 0.7 of the samples' angular pitch (about 1/√2: no bin holds two neighbours, so a
+  // bin's nearest range is one measurement's; wider bins let 45 of 12k fills through on mosd_learn0).
+  bin_ = 0.7 * spacing / median(ranges);
+  // Bins in azimuth and elevation about a pole across the mean view direction, so that the scan's
+  // directions lie near the equator, where bins are squares (a pole along the view would crowd them).
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : points)
+    if (p.allFinite() && (p - viewpoint).norm() > 0.0)
+      mean += (p - viewpoint).normalized();
+  const Eigen::Vector3d forward = mean.norm() > 0.0 ? Eigen::Vector3d(mean.normalized()) : Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d helper = std::abs(forward.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d side = helper.cross(forward).normalized();
+  frame_.row(0) = forward.transpose();
+  frame_.row(1) = side.transpose();
+  frame_.row(2) = forward.cross(side).transpose();
+  std::vector<std::pair<long long, double>> entries;
+  for (const auto& p : points)
+    if (p.allFinite() && (p - viewpoint).norm() > 0.0)
+      entries.emplace_back(key(p), (p - viewpoint).norm());
+  std::sort(entries.begin(), entries.end());
+  for (const auto& e : entries)
+    if (nearest_.empty() || nearest_.back().first != e.first)
+      nearest_.push_back(e);  // the first of a key is its smallest range
+}
+
+long long ViewpointFreeSpaceTest::key(const Eigen::Vector3d& p) const
+{
+  const Eigen::Vector3d d = frame_ * (p - viewpoint_).normalized();
+  const long long a = static_cast<long long>(std::floor((std::atan2(d.y(), d.x()) + M_PI) / bin_));
+  const long long e = static_cast<long long>(std::floor((std::asin(std::clamp(d.z(), -1.0, 1.0)) + M_PI) / bin_));
+  return a * 4000000LL + e;
+}
+
+bool ViewpointFreeSpaceTest::violates(const Eigen::Vector3d& p) const
+{
+  if (nearest_.empty() || !p.allFinite())
+    return false;
+  const double range = (p - viewpoint_).norm();
+  if (!(range > 0.0))
+    return false;
+  const long long centre = key(p);
+  double seen = std::numeric_limits<double>::infinity();
+  for (long long da = -1; da <= 1; ++da)
+    for (long long de = -1; de <= 1; ++de) {
+      const long long k = centre + da * 4000000LL + de;
+      const auto it = std::lower_bound(nearest_.begin(), nearest_.end(), std::make_pair(k, -1.0));
+      if (it != nearest_.end() && it->first == k)
+        seen = std::min(seen, it->second);
+    }
+  if (!std::isfinite(seen))
+    return false;
+  return range < seen - std::max(spacing_factor_ * spacing_ * seen / range, relative_range_ * seen);
+}
+
 }  // namespace patchdict
 }  // namespace pcl

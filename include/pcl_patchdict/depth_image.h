@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 namespace pcl {
@@ -83,6 +84,26 @@ private:
   const DepthImage* image_;
   std::vector<double> nearest_;  // the 3 × 3 minimum of the measured depths (inf where none)
   double spacing_factor_, relative_depth_;
+};
+
+/** The free space of an unorganised scan taken from one viewpoint (a terrestrial scanner, a frame
+  * whose grid was lost): the measured points binned by direction from the viewpoint (azimuth and
+  * elevation about a pole across the mean view direction, in bins of spacing / median range), each bin keeping its nearest range. A point lies in
+  * seen-through space when it is nearer than the nearest measured range among its direction's 3 × 3
+  * bins by more than max(spacing_factor × spacing, relative_range × that range). Directions with no
+  * measurement are not judged. */
+class ViewpointFreeSpaceTest {
+public:
+  ViewpointFreeSpaceTest(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& viewpoint, double spacing,
+                         double spacing_factor = 2.0, double relative_range = 0.008);
+  bool violates(const Eigen::Vector3d& p) const;
+
+private:
+  long long key(const Eigen::Vector3d& p) const;
+  Eigen::Vector3d viewpoint_;
+  Eigen::Matrix3d frame_ = Eigen::Matrix3d::Identity();  // rows: the mean view direction, two across it
+  double bin_ = 0.0, spacing_, spacing_factor_, relative_range_;
+  std::vector<std::pair<long long, double>> nearest_;  // sorted by key: the bin's nearest range
 };
 
 }  // namespace patchdict

@@ -103,7 +103,9 @@ struct CloudDenoisingReport {
   std::size_t duplicate_points = 0;     ///< exact copies of an earlier point: they follow it
   std::size_t gross_outliers = 0;       ///< finite points no sensor measured (removeGrossOutliers): NaN
   std::size_t off_ray_points = 0;       ///< finite points far from their pixel's ray: not points (NaN)
-  std::size_t free_space_reverted = 0;  ///< denoised points the sensor saw through: kept as measured
+  std::size_t free_space_reverted = 0;
+  /// Unorganised input with a viewpoint (setViewpoint): new points it saw through, dropped.
+  std::size_t free_space_dropped = 0;  ///< denoised points the sensor saw through: kept as measured
 };
 
 namespace detail {

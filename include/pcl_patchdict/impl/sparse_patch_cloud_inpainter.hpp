@@ -199,6 +199,23 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
       completeCloudHoles(surface, surface_normals, report_.mean_spacing, completion, added, added_normals, added_source,
                          report_.completion);
     }
+    if (has_viewpoint_ && !added.empty()) {  // a given viewpoint: no new point where it saw through
+      const double spacing = report_.mean_spacing > 0.0 ? report_.mean_spacing : report_.height_field.spacing;
+      const ViewpointFreeSpaceTest free_space(surface, viewpoint_, spacing);
+      std::size_t k = 0;
+      for (std::size_t j = 0; j < added.size(); ++j) {
+        if (free_space.violates(added[j])) {
+          ++report_.free_space_dropped;
+          continue;
+        }
+        added[k] = added[j];
+        added_normals[k] = added_normals[j];
+        added_source[k++] = added_source[j];
+      }
+      added.resize(k);
+      added_normals.resize(k);
+      added_source.resize(k);
+    }
     report_.points_added = added.size();
     for (std::size_t& source : added_source)
       source = owner[source];
