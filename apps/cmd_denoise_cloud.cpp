@@ -293,6 +293,15 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
           .add("depth_low", report.depth_noise.depth_low).add("depth_high", report.depth_noise.depth_high);
       image.add("camera", camera).add("noise_law", law).add("off_ray_points", report.off_ray_points)
           .add("free_space_reverted", report.free_space_reverted);
+      if (report.depth_denoised_in_image) {
+        const DepthDenoisingReport& d = report.depth_denoising;
+        JsonObject denoising;
+        denoising.add("radius_near_pixels", d.radius_near).add("radius_far_pixels", d.radius_far)
+            .add("depth_near", d.depth_near).add("depth_far", d.depth_far).add("moved", d.moved)
+            .add("left", d.left).add("clamped", d.clamped).add("rms_shift_sigmas", d.rms_shift_sigmas)
+            .add("seconds", d.seconds);
+        image.add("denoising", denoising);
+      }
       if (fill) {
         const OrganizedFillReport& f = report.organized_fill;
         JsonObject holes;

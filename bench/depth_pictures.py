@@ -119,16 +119,30 @@ def edge_picture(a):
     print('window rows %d:%d, columns %d:%d; %.3f m across' % (r0, r1, c0, c1, span))
 
 
+def shade_picture(a):
+    r0, r1 = (int(v) for v in a.rows.split(':'))
+    c0, c1 = (int(v) for v in a.cols.split(':'))
+    panels = []
+    for path in (a.input, a.output):
+        x, y, z, w, h = read_pcd(path)
+        panel = shaded(x, y, z, w, h)[r0:r1, c0:c1]
+        panels.append(np.kron(panel, np.ones((a.zoom, a.zoom, 1))))
+    gap = np.full((panels[0].shape[0], 8, 3), 255.0)
+    write_png(a.picture, np.concatenate([panels[0], gap, panels[1]], axis=1))
+    print('window rows %d:%d, columns %d:%d' % (r0, r1, c0, c1))
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    p.add_argument('kind', choices=['fill', 'edge'])
+    p.add_argument('kind', choices=['fill', 'edge', 'shade'])
     p.add_argument('input')
     p.add_argument('output')
     p.add_argument('picture')
     p.add_argument('--rows', default='200:260')
     p.add_argument('--cols', default='200:400')
+    p.add_argument('--zoom', type=int, default=2)
     a = p.parse_args()
-    (fill_picture if a.kind == 'fill' else edge_picture)(a)
+    {'fill': fill_picture, 'edge': edge_picture, 'shade': shade_picture}[a.kind](a)
 
 
 if __name__ == '__main__':

@@ -140,6 +140,13 @@ TEST(OrganizedCloudRepair, HostileFramesEndInAnErrorOrACorrectResult)
   inpainter.setInputCloud(same);
   pcl::PointCloud<pcl::PointXYZRGB> out;
   EXPECT_THROW(inpainter.process(out), pcl::patchdict::Error);
+  // One valid pixel: a clean error too.
+  auto lonely = std::make_shared<pcl::PointCloud<pcl::PointXYZRGB>>(*cloud);
+  for (std::size_t i = 0; i < lonely->size(); ++i)
+    if (i != 60 * 160 + 40 + 20)
+      (*lonely)[i].x = (*lonely)[i].y = (*lonely)[i].z = kNaNf;
+  inpainter.setInputCloud(lonely);
+  EXPECT_THROW(inpainter.process(out), pcl::patchdict::Error);
   // ±inf coordinates are no points.
   auto infinite = std::make_shared<pcl::PointCloud<pcl::PointXYZRGB>>(*cloud);
   for (std::size_t i = 0; i < infinite->size(); i += 11)
@@ -150,6 +157,37 @@ TEST(OrganizedCloudRepair, HostileFramesEndInAnErrorOrACorrectResult)
   EXPECT_TRUE(inpainter.getReport().depth_image);
   for (const auto& p : out)
     ASSERT_TRUE(std::isfinite(p.x) == std::isfinite(p.z));
+}
+
+TEST(OrganizedCloudRepair, Float32TerrainFarFromTheOriginIsFilledWhereItIs)
+{
+  // An airborne patch in UTM metres as float32 (ulp 0.5 m at 4.5e6): 1 m samples, a 10 m hole.
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+  for (int i = 0; i < 80; ++i)
+    for (int j = 0; j < 80; ++j) {
+      const double u = i + jitter(rng), v = j + jitter(rng);
+      if ((u - 40) * (u - 40) + (v - 40) * (v - 40) < 25.0)
+        continue;
+      pcl::PointXYZ p;
+      p.x = static_cast<float>(512000.0 + u);
+      p.y = static_cast<float>(4500000.0 + v);
+      p.z = static_cast<float>(100.0 + 0.05 * u + 0.02 * v);
+      cloud->push_back(p);
+    }
+  SparsePatchCloudInpainter<pcl::PointXYZ> inpainter;
+  inpainter.setInputCloud(cloud);
+  inpainter.setMode(SparsePatchCloudInpainter<pcl::PointXYZ>::Mode::Complete);
+  pcl::PointCloud<pcl::PointXYZ> out;
+  inpainter.process(out);
+  EXPECT_TRUE(inpainter.getReport().height_field_used);
+  ASSERT_GT(inpainter.getReport().points_added, 40u);
+  for (std::size_t k = cloud->size(); k < out.size(); ++k) {
+    const double u = out[k].x - 512000.0, v = out[k].y - 4500000.0;
+    EXPECT_LT((u - 40) * (u - 40) + (v - 40) * (v - 40), 49.0);        // in the hole
+    EXPECT_NEAR(out[k].z, 100.0 + 0.05 * u + 0.02 * v, 0.05);          // on the slope
+  }
 }
 
 TEST(OrganizedCloudRepair, ExactCopiesFollowTheirFirstPoint)

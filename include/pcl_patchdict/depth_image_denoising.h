@@ -24,7 +24,7 @@ struct DepthDenoisingParameters {
   /// Range weight: Tukey's biweight of a neighbour's depth off the reference plane, zero beyond
   /// range_sigmas × σ(z). This keeps the far side of a depth edge and the other surface of a corner
   /// out of the fit.
-  double range_sigmas = 3.0;
+  double range_sigmas = 4.0;
   /// The first (reference) plane comes from a (2·seed_radius+1)² window around the pixel; while it is
   /// seeded from the pixel's own depth, a neighbour d pixels away may differ by up to
   /// range_sigmas·σ(z) + slope_allowance·d·(pixel spacing) — slope_allowance = tan of the steepest

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <pcl_patchdict/cloud_hole_completion.h>
+#include <pcl_patchdict/depth_image_denoising.h>
 #include <pcl_patchdict/height_field_hole_filling.h>
 #include <pcl_patchdict/local_quadric_projection.h>
 #include <pcl_patchdict/organized_hole_filling.h>
@@ -104,6 +105,9 @@ struct CloudDenoisingReport {
   std::size_t gross_outliers = 0;       ///< finite points no sensor measured (removeGrossOutliers): NaN
   std::size_t off_ray_points = 0;       ///< finite points far from their pixel's ray: not points (NaN)
   std::size_t free_space_reverted = 0;
+  /// Denoise modes on a depth image: denoised in image space (denoiseDepthImage), and how.
+  bool depth_denoised_in_image = false;
+  DepthDenoisingReport depth_denoising;
   /// Unorganised input with a viewpoint (setViewpoint): new points it saw through, dropped.
   std::size_t free_space_dropped = 0;  ///< denoised points the sensor saw through: kept as measured
 };
@@ -213,6 +217,11 @@ public:
   /** The height-field fill (its max_hole_diameter: the completion's, when set; its up direction:
     * the cloud's dominant one under Auto). */
   void setHeightFieldFillParameters(const HeightFieldFillParameters& parameters) { height_field_fill_ = parameters; }
+  /** Depth images are denoised in image space with the sensor's noise law (denoiseDepthImage: robust
+    * local planes in 1/z over the pixel grid), unless this is off or σ or h is given (then: the
+    * patches of the unorganised path, each point still moved along its ray). Default on. */
+  void setDepthImageDenoising(bool enabled) { depth_image_denoising_ = enabled; }
+  void setDepthDenoisingParameters(const DepthDenoisingParameters& parameters) { depth_denoising_ = parameters; }
   /** The in-place fill of organised inputs (its max_hole_diameter: the completion's, when set). */
   void setOrganizedFillParameters(const OrganizedFillParameters& parameters) { organized_fill_ = parameters; }
   const OrganizedFillParameters& getOrganizedFillParameters() const { return organized_fill_; }
@@ -245,6 +254,8 @@ private:
   CloudDenoisingParameters parameters_;
   CloudCompletionParameters completion_;
   OrganizedFillParameters organized_fill_;
+  bool depth_image_denoising_ = true;
+  DepthDenoisingParameters depth_denoising_;
   HeightField height_field_ = HeightField::Auto;
   HeightFieldFillParameters height_field_fill_;
   Eigen::Vector3d viewpoint_ = Eigen::Vector3d::Zero();

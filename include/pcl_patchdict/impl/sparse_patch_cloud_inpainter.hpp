@@ -342,7 +342,51 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::processDepthImage(const std
   std::vector<Eigen::Vector3d> position(measured), normal(n, Eigen::Vector3d::Zero());
   std::vector<char> present(image.valid);
   const auto ray = [&](std::size_t i) { return camera.pointAt(double(i % W), double(i / W), 1.0); };
-  if (mode_ != Mode::Complete) {
+  // Normals from the grid: central differences of the present neighbours, facing the camera.
+  const auto gridNormal = [&](std::size_t i) {
+    const std::size_t c = i % W, r = i / W;
+    const auto at = [&](std::size_t cc, std::size_t rr) { return present[rr * W + cc] ? position[rr * W + cc] : position[i]; };
+    const Eigen::Vector3d du = at(std::min(W - 1, c + 1), r) - at(c ? c - 1 : 0, r);
+    const Eigen::Vector3d dv = at(c, std::min(H - 1, r + 1)) - at(c, r ? r - 1 : 0);
+    Eigen::Vector3d nrm = du.cross(dv);
+    nrm = nrm.norm() > 0.0 ? nrm.normalized() : Eigen::Vector3d(-ray(i).normalized());
+    return nrm.dot(position[i]) > 0.0 ? Eigen::Vector3d(-nrm) : nrm;
+  };
+  // The sensor's own noise law, unless the caller fixed σ or h for the patches: image-space denoising.
+  const bool in_image = depth_image_denoising_ && report_.depth_noise.coefficient > 0.0 &&
+                        parameters_.noise_sigma == 0.0 && parameters_.bandwidth == 0.0;
+  if (mode_ != Mode::Complete && in_image) {
+    if (queries.size() < 100)
+      throw Error("the cloud has " + std::to_string(queries.size()) + " measured pixels; denoising needs at least 100");
+    std::vector<double> depth;
+    const auto fit_start = std::chrono::steady_clock::now();
+    DepthDenoisingParameters denoising = depth_denoising_;
+    if (denoising.num_threads == 0)
+      denoising.num_threads = parameters_.num_threads;
+    denoiseDepthImage(image, report_.depth_noise, denoising, depth, report_.depth_denoising);
+    report_.seconds_fit = std::chrono::duration<double>(std::chrono::steady_clock::now() - fit_start).count();
+    report_.depth_denoised_in_image = true;
+    const FreeSpaceTest free_space(image);
+    for (const std::size_t i : queries) {
+      position[i] = camera.pointAt(double(i % W), double(i / W), depth[i]);
+      if (!position[i].allFinite() || free_space.violates(position[i])) {
+        position[i] = measured[i];
+        ++report_.free_space_reverted;
+      }
+    }
+    for (const std::size_t i : queries)
+      normal[i] = gridNormal(i);
+    std::vector<double> depths;
+    for (const std::size_t i : queries)
+      depths.push_back(image.depth[i]);
+    std::nth_element(depths.begin(), depths.begin() + static_cast<std::ptrdiff_t>(depths.size() / 2), depths.end());
+    const double typical = depths[depths.size() / 2];
+    report_.noise_sigma = report_.depth_noise.sigma(typical);  // at the median depth
+    report_.mean_spacing = camera.pixelSpacing(typical);
+    report_.bandwidth = depthDenoisingRadius(camera, depth_denoising_, typical) * report_.mean_spacing;
+    report_.input_points = n;
+    report_.nonfinite_points = n - queries.size();
+  } else if (mode_ != Mode::Complete) {
     if (queries.size() < 100)
       throw Error("the cloud has " + std::to_string(queries.size()) + " measured pixels; denoising needs at least 100");
     auto searched = std::make_shared<PointCloudIn>(input);
@@ -417,16 +461,8 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::processDepthImage(const std
       position[filled[k]] = added[k];
       present[filled[k]] = 1;
     }
-    // Normals of the filled pixels: central differences over the grid, facing the camera.
-    for (const std::size_t i : filled) {
-      const std::size_t c = i % W, r = i / W;
-      const auto at = [&](std::size_t cc, std::size_t rr) { return present[rr * W + cc] ? position[rr * W + cc] : position[i]; };
-      const Eigen::Vector3d du = at(std::min(W - 1, c + 1), r) - at(c ? c - 1 : 0, r);
-      const Eigen::Vector3d dv = at(c, std::min(H - 1, r + 1)) - at(c, r ? r - 1 : 0);
-      Eigen::Vector3d nrm = du.cross(dv);
-      nrm = nrm.norm() > 0.0 ? nrm.normalized() : Eigen::Vector3d(-ray(i).normalized());
-      normal[i] = nrm.dot(position[i]) > 0.0 ? Eigen::Vector3d(-nrm) : nrm;
-    }
+    for (const std::size_t i : filled)
+      normal[i] = gridNormal(i);
     report_.points_added = filled.size();
     report_.completion.points_added = filled.size();
     report_.completion.holes_filled = report_.organized_fill.holes_filled;
