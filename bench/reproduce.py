@@ -11,6 +11,8 @@ Runs, in order, writing into OUT (default bench/results/) and assembling OUT/RES
   fig8bc   Fig. 8b (local vs global against atoms), 8c (global vs number of shapes)  fig8_dictionaries.py
   scale    fill-holes and compress at 25k–1.6M faces, 1 and 2 threads: time per stage, peak memory
                                                                                scale.py
+  real     fill-holes and denoise on real Kinect scans and a LiDAR tile: punched holes against harmonic
+           image/grid fills, whole scans, plane roughness against PCL's MLS   real_scans.py
 Meshes: data/bunny.obj (bundled) and ../shared/data/{meshes,textured} (the project's sibling folder).
 The global dictionary of the repair tables is learned from scans the tables do not repair.
 
@@ -32,7 +34,7 @@ ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 from line_plot import line_plot  # noqa: E402
 
-STEPS = ["fig7", "table1", "repair", "fig8a", "fig8bc", "scale"]
+STEPS = ["fig7", "table1", "repair", "fig8a", "fig8bc", "scale", "real"]
 REPAIR_MESHES = ["boot.obj", "demosthenes.obj", "max_planck.obj", "lucy.obj", "bunny.obj", "fandisk.obj"]
 GLOBAL_TRAINING = ["armadillo.obj", "chinese_dragon.off", "happy_buddha.obj", "mountain.obj", "skull.obj"]
 SWEEP_MESHES = ["textured/sole.ply", "textured/knurl.ply", "textured/tiles.ply", "meshes/boot.obj",
@@ -158,6 +160,17 @@ def scale(a, out, log):
     return ("Speed and memory at scale", open(out / "scale.md").read().strip() +
             "\n\nPlots: wall seconds, then peak MB, against faces (log-log); blue fill-holes, red compress; dashed "
             "1 thread, solid 2.", ["scale_time.png", "scale_memory.png"])
+
+
+def real(a, out, log):
+    title = "Real sensor scans — Kinect frames and an airborne LiDAR tile"
+    if not (a.shared / "real").is_dir():
+        print("reproduce.py: real skipped: %s not found" % (a.shared / "real"), flush=True)
+        return title, "*Skipped: %s not found.*" % (a.shared / "real"), []
+    run([sys.executable, HERE / "real_scans.py", "--tool", a.tool, "--shared", a.shared, "--out",
+         out / "real_scans", *(["--quick"] if a.quick else [])], log)
+    body = open(out / "real_scans" / "real_scans.md").read().strip().split("\n", 1)[1]  # without its title
+    return title, body.strip(), []
 
 
 def main():
