@@ -4,9 +4,10 @@
 set -euo pipefail
 
 packages=(g++ cmake make libpcl-dev libgtest-dev libbenchmark-dev zlib1g-dev)
-# --bench: also what bench/reproduce.py runs with (Python for the scripts, Draco for the comparison).
+# --bench: also what bench/reproduce.py runs with (Python for the scripts, Draco for the comparison;
+# numpy, scipy and pcl-tools — PCL's MLS and PCD converter — for bench/real_scans.py).
 if [ "${1:-}" = "--bench" ]; then
-  packages+=(python3 draco)
+  packages+=(python3 draco python3-numpy python3-scipy pcl-tools)
 fi
 
 missing=()
