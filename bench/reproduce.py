@@ -167,7 +167,9 @@ def real(a, out, log):
     if not (a.shared / "real").is_dir():
         print("reproduce.py: real skipped: %s not found" % (a.shared / "real"), flush=True)
         return title, "*Skipped: %s not found.*" % (a.shared / "real"), []
-    run([sys.executable, HERE / "real_scans.py", "--tool", a.tool, "--shared", a.shared, "--out",
+    # numpy and scipy come from Debian (install-deps.sh --bench): its interpreter, not another on PATH.
+    python = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
+    run([python, HERE / "real_scans.py", "--tool", a.tool, "--shared", a.shared, "--out",
          out / "real_scans", *(["--quick"] if a.quick else [])], log)
     body = open(out / "real_scans" / "real_scans.md").read().strip().split("\n", 1)[1]  # without its title
     return title, body.strip(), []
