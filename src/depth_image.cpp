@@ -27,8 +27,13 @@ bool usable(const Eigen::Vector3d& p) { return p.allFinite() && p.z() > 0.0; }
 // apart on one line (row for x, column for y), their median; then c as the median offset; then least
 // squares over the points within max_reprojection of that line.
 bool fitAxis(const std::vector<Eigen::Vector3d>& points, std::size_t width, std::size_t height, bool along_columns,
-             double max_reprojection, double& f, double& c)
+             double typical, double max_reprojection, double& f, double& c)
 {
+  // A depth a thousand times off the median is no measurement, even on its ray (the principal
+  // point's ray holds any depth): the fit never sees it.
+  const auto usable = [typical](const Eigen::Vector3d& p) {
+    return p.allFinite() && p.z() > 1e-3 * typical && p.z() < 1e3 * typical;
+  };
   const std::size_t lines = along_columns ? height : width, length = along_columns ? width : height;
   const std::size_t gap = std::max<std::size_t>(1, length / 4);
   const auto index = [&](std::size_t line, std::size_t k) { return along_columns ? line * width + k : k * width + line; };
@@ -96,18 +101,16 @@ DepthImage makeDepthImage(const std::vector<Eigen::Vector3d>& points, std::size_
   image.valid.assign(width * height, 0);
   if (points.size() != width * height || width < 2 || height < 2)
     return image;
-  PinholeCamera& camera = image.camera;
-  if (!fitAxis(points, width, height, true, max_reprojection, camera.fx, camera.cx) ||
-      !fitAxis(points, width, height, false, max_reprojection, camera.fy, camera.cy))
-    return image;
-  // A depth a thousand times off the median is no measurement, even on its ray (the principal
-  // point's ray holds any depth).
   std::vector<double> depths;
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (usable(points[i]))
-      depths.push_back(points[i].z());
+  for (const auto& p : points)
+    if (usable(p))
+      depths.push_back(p.z());
   const double typical = median(depths);
   if (!std::isfinite(typical))
+    return image;
+  PinholeCamera& camera = image.camera;
+  if (!fitAxis(points, width, height, true, typical, max_reprojection, camera.fx, camera.cx) ||
+      !fitAxis(points, width, height, false, typical, max_reprojection, camera.fy, camera.cy))
     return image;
   double squared = 0.0;
   std::size_t used = 0;

@@ -109,10 +109,7 @@ Eigen::VectorXd harmonicMisfit(const DepthImage& image, const RimFit& fit, const
   };
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t i = region[k];
-    const std::size_t column = i % W, row = i / W;
     const std::size_t neighbours[4] = {i - 1, i + 1, i - W, i + W};  // enclosed: never on the border
-    (void)column;
-    (void)row;
     double diagonal = 0.0;
     for (const std::size_t j : neighbours) {
       if (label[j] == id) {

@@ -44,7 +44,7 @@ TEST(DepthImage, FitsTheCameraOfAFrameAndSetsAsideOffRayPoints)
   EXPECT_NEAR(image.camera.fy, 150.0, 1e-3);
   EXPECT_NEAR(image.camera.cx, 79.3, 1e-3);
   EXPECT_NEAR(image.camera.cy, 60.2, 1e-3);
-  EXPECT_LT(image.camera.rms_pixels, 0.01);
+  EXPECT_LT(image.camera.rms_pixels, 1e-3);  // the wild depths stay out of the fit
   EXPECT_EQ(image.camera.off_ray, wild);
   EXPECT_EQ(image.measured(), frame.points.size() - wild);
 
