@@ -10,48 +10,22 @@
 
 PCDs in binary or ascii, or binary_compressed via `pcl_convert_pcd_ascii_binary` (pcl-tools)."""
 import argparse
-import os
 import struct
-import subprocess
 import sys
 import tempfile
 import zlib
 
 import numpy as np
 
+import real_scans
+
 
 def read_pcd(path):
-    """-> (x, y, z as float64 arrays, width, height)."""
-    with open(path, 'rb') as f:
-        data = f.read()
-    header, offset = {}, 0
-    while True:
-        end = data.index(b'\n', offset)
-        line = data[offset:end].decode('ascii', 'replace').strip()
-        offset = end + 1
-        if line and not line.startswith('#'):
-            key, *values = line.split()
-            header[key.upper()] = values
-            if key.upper() == 'DATA':
-                break
-    if header['DATA'][0] == 'binary_compressed':
-        with tempfile.TemporaryDirectory() as tmp:
-            plain = os.path.join(tmp, 'plain.pcd')
-            subprocess.run(['pcl_convert_pcd_ascii_binary', path, plain, '1'], check=True, capture_output=True)
-            return read_pcd(plain)
-    fields, sizes, types = header['FIELDS'], [int(s) for s in header['SIZE']], header['TYPE']
-    counts = [int(c) for c in header.get('COUNT', ['1'] * len(fields))]
-    n = int(header['POINTS'][0])
-    dtype = np.dtype([(name if name != '_' else '_pad%d' % k, '<%s%d' % ({'F': 'f', 'U': 'u', 'I': 'i'}[t], s), (c,))
-                      for k, (name, s, t, c) in enumerate(zip(fields, sizes, types, counts))])
-    if header['DATA'][0] == 'binary':
-        rows = np.frombuffer(data[offset:offset + n * dtype.itemsize], dtype)
-        get = lambda name: rows[name][:, 0].astype(np.float64)
-    else:
-        table = np.array([ln.split() for ln in data[offset:].decode().splitlines() if ln.strip()], dtype=np.float64)
-        column = {name: sum(counts[:k]) for k, name in enumerate(fields)}
-        get = lambda name: table[:, column[name]]
-    return get('x'), get('y'), get('z'), int(header['WIDTH'][0]), int(header['HEIGHT'][0])
+    """-> (x, y, z as float64 arrays, width, height), through real_scans.py's reader."""
+    with tempfile.TemporaryDirectory() as tmp:
+        arr, info = real_scans.read_pcd(path, tmp)
+    P = real_scans.xyz(arr)
+    return P[:, 0], P[:, 1], P[:, 2], info['width'], info['height']
 
 
 def write_png(path, rgb):

@@ -45,6 +45,8 @@ from scipy import ndimage, sparse
 from scipy.sparse.linalg import spsolve
 from scipy.spatial import cKDTree
 
+from reproduce import git_commit  # noqa: E402  (the same "commit (with uncommitted changes)" line)
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 ORGANISED = ["mosd_learn0", "mosd_learn20", "mosd_learn28", "mosd_learn40", "kinect_frame_142256"]
@@ -602,17 +604,6 @@ def lidar_step(a, run, work, seeds, rmin, rmax):
             r["grid_fill_removed_to_out"], r["added"], r["added_in_holes"], r["grid_fill_added"],
             r["grid_fill_added_in_holes"], r["seconds"], r["grid_fill_seconds"], r["peak_mb"]))
     return md
-
-
-def git_commit():
-    try:
-        commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
-                                text=True).stdout.strip()
-        dirty = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "--untracked-files=no"],
-                               capture_output=True, text=True).stdout.strip()
-        return (commit or "unknown") + (" (with uncommitted changes)" if dirty else "")
-    except OSError:
-        return "unknown"
 
 
 def main():
