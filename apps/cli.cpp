@@ -1,7 +1,7 @@
 #include "cli.h"
 
-#include <pcl_patchdict/atomic_file.h>
-#include <pcl_patchdict/mesh_hygiene.h>
+#include <pcl_patchdict/io/atomic_file.h>
+#include <pcl_patchdict/geometry/mesh_hygiene.h>
 
 #include <charconv>
 #include <cmath>

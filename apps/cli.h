@@ -2,8 +2,8 @@
 // ordered JSON writer for --json, stage timing, and the load step every subcommand shares.
 #pragma once
 
-#include <pcl_patchdict/error.h>
-#include <pcl_patchdict/mesh_io.h>
+#include <pcl_patchdict/core/error.h>
+#include <pcl_patchdict/io/mesh_io.h>
 
 #include <chrono>
 #include <map>

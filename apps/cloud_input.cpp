@@ -2,9 +2,9 @@
 #include "cloud_input.h"
 #include "cli.h"
 
-#include <pcl_patchdict/error.h>
-#include <pcl_patchdict/gross_outliers.h>
-#include <pcl_patchdict/mesh_io.h>
+#include <pcl_patchdict/core/error.h>
+#include <pcl_patchdict/cloud/gross_outliers.h>
+#include <pcl_patchdict/io/mesh_io.h>
 
 #include <pcl/conversions.h>
 

@@ -2,11 +2,11 @@
 // the .pdc codec (quad mesh + sparse codes), with the sizes of its parts and the PSNR of the round trip.
 #include "cli.h"
 
-#include <pcl_patchdict/atomic_file.h>
-#include <pcl_patchdict/mesh_render.h>
-#include <pcl_patchdict/metrics.h>
-#include <pcl_patchdict/normalization.h>
-#include <pcl_patchdict/patch_codec.h>
+#include <pcl_patchdict/io/atomic_file.h>
+#include <pcl_patchdict/eval/mesh_render.h>
+#include <pcl_patchdict/geometry/metrics.h>
+#include <pcl_patchdict/core/normalization.h>
+#include <pcl_patchdict/codec/patch_codec.h>
 
 #include <cmath>
 #include <cstdio>

@@ -6,13 +6,13 @@
 #include "cli.h"
 #include "repair_report.h"
 
-#include <pcl_patchdict/hole_filling.h>
-#include <pcl_patchdict/mesh_damage.h>
-#include <pcl_patchdict/mesh_hygiene.h>
-#include <pcl_patchdict/metrics.h>
-#include <pcl_patchdict/normalization.h>
-#include <pcl_patchdict/shapes.h>
-#include <pcl_patchdict/sparse_patch_inpainter.h>
+#include <pcl_patchdict/geometry/hole_filling.h>
+#include <pcl_patchdict/eval/mesh_damage.h>
+#include <pcl_patchdict/geometry/mesh_hygiene.h>
+#include <pcl_patchdict/geometry/metrics.h>
+#include <pcl_patchdict/core/normalization.h>
+#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
 
 #include <chrono>
 #include <cstdio>

@@ -9,8 +9,8 @@
 #include "cloud_input.h"
 #include "repair_options.h"
 
-#include <pcl_patchdict/normalization.h>
-#include <pcl_patchdict/sparse_patch_inpainter.h>
+#include <pcl_patchdict/core/normalization.h>
+#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
 
 #include <cstdio>
 #include <iostream>

@@ -5,8 +5,8 @@
 #include "cli.h"
 #include "cloud_input.h"
 
-#include <pcl_patchdict/mesh_io.h>
-#include <pcl_patchdict/sparse_patch_cloud_inpainter.h>
+#include <pcl_patchdict/io/mesh_io.h>
+#include <pcl_patchdict/cloud/sparse_patch_cloud_inpainter.h>
 
 #include <pcl/common/io.h>
 #include <pcl/conversions.h>

@@ -2,9 +2,9 @@
 // Lengths are in REF's unit-cube units (largest bbox side = 1) unless --absolute.
 #include "cli.h"
 
-#include <pcl_patchdict/index_io.h>
-#include <pcl_patchdict/metrics.h>
-#include <pcl_patchdict/normalization.h>
+#include <pcl_patchdict/io/index_io.h>
+#include <pcl_patchdict/geometry/metrics.h>
+#include <pcl_patchdict/core/normalization.h>
 
 #include <cmath>
 #include <cstdio>

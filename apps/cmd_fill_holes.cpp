@@ -5,9 +5,9 @@
 #include "cloud_input.h"
 #include "repair_options.h"
 
-#include <pcl_patchdict/hole_filling.h>
-#include <pcl_patchdict/normalization.h>
-#include <pcl_patchdict/sparse_patch_inpainter.h>
+#include <pcl_patchdict/geometry/hole_filling.h>
+#include <pcl_patchdict/core/normalization.h>
+#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
 
 #include <cmath>
 #include <cstdio>

@@ -2,7 +2,7 @@
 #include "cli.h"
 #include "cloud_input.h"
 
-#include <pcl_patchdict/mesh_hygiene.h>
+#include <pcl_patchdict/geometry/mesh_hygiene.h>
 
 #include <iostream>
 

@@ -3,9 +3,9 @@
 #include "cli.h"
 #include "cloud_input.h"
 
-#include <pcl_patchdict/depth_image.h>
-#include <pcl_patchdict/gross_outliers.h>
-#include <pcl_patchdict/height_field_hole_filling.h>
+#include <pcl_patchdict/cloud/depth_image.h>
+#include <pcl_patchdict/cloud/gross_outliers.h>
+#include <pcl_patchdict/cloud/height_field_hole_filling.h>
 
 #include <pcl/kdtree/kdtree_flann.h>
 

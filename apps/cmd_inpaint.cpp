@@ -3,9 +3,9 @@
 #include "cli.h"
 #include "repair_options.h"
 
-#include <pcl_patchdict/index_io.h>
-#include <pcl_patchdict/patch_dictionary.h>
-#include <pcl_patchdict/sparse_patch_inpainter.h>
+#include <pcl_patchdict/io/index_io.h>
+#include <pcl_patchdict/coding/patch_dictionary.h>
+#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
 
 #include <cstdio>
 #include <iostream>

@@ -4,10 +4,10 @@
 #include "learn_inputs.h"
 #include "surface_patches.h"
 
-#include <pcl_patchdict/learning_checkpoint.h>
-#include <pcl_patchdict/patch_dictionary.h>
-#include <pcl_patchdict/patch_set.h>
-#include <pcl_patchdict/patch_shuffle_buffer.h>
+#include <pcl_patchdict/coding/learning_checkpoint.h>
+#include <pcl_patchdict/coding/patch_dictionary.h>
+#include <pcl_patchdict/patches/patch_set.h>
+#include <pcl_patchdict/coding/patch_shuffle_buffer.h>
 
 #include <algorithm>
 #include <chrono>

@@ -2,11 +2,11 @@
 // seeds with their frames — where the patches of IN go.
 #include "cli.h"
 
-#include <pcl_patchdict/atomic_file.h>
-#include <pcl_patchdict/mesh_hygiene.h>
-#include <pcl_patchdict/mesh_render.h>
-#include <pcl_patchdict/normalization.h>
-#include <pcl_patchdict/patch_layout.h>
+#include <pcl_patchdict/io/atomic_file.h>
+#include <pcl_patchdict/geometry/mesh_hygiene.h>
+#include <pcl_patchdict/eval/mesh_render.h>
+#include <pcl_patchdict/core/normalization.h>
+#include <pcl_patchdict/quads/patch_layout.h>
 
 #include <array>
 #include <iostream>

@@ -2,13 +2,13 @@
 // input's own connectivity (section 3.4 of the paper) — the identity round trip, or through a
 // dictionary (sparse codes with --sparsity atoms, decoded) — scored against the input.
 #include "cli.h"
-#include "patch_seeds.h"
+#include "surface_patches.h"
 
-#include <pcl_patchdict/height_map_patch_extractor.h>
-#include <pcl_patchdict/metrics.h>
-#include <pcl_patchdict/normalization.h>
-#include <pcl_patchdict/patch_dictionary.h>
-#include <pcl_patchdict/patch_mesh_reconstruction.h>
+#include <pcl_patchdict/patches/height_map_patch_extractor.h>
+#include <pcl_patchdict/geometry/metrics.h>
+#include <pcl_patchdict/core/normalization.h>
+#include <pcl_patchdict/coding/patch_dictionary.h>
+#include <pcl_patchdict/patches/patch_mesh_reconstruction.h>
 
 #include <cmath>
 #include <cstdio>

@@ -1,8 +1,8 @@
 #include "learn_inputs.h"
 
-#include <pcl_patchdict/error.h>
-#include <pcl_patchdict/mesh_io.h>
-#include <pcl_patchdict/patch_dictionary.h>
+#include <pcl_patchdict/core/error.h>
+#include <pcl_patchdict/io/mesh_io.h>
+#include <pcl_patchdict/coding/patch_dictionary.h>
 
 #include <glob.h>
 

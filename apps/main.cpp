@@ -2,7 +2,7 @@
 // on stderr and a non-zero exit: 1 for bad input or a failed run, 2 for a malformed command line.
 #include "cli.h"
 
-#include <pcl_patchdict/atomic_file.h>
+#include <pcl_patchdict/io/atomic_file.h>
 
 #include <cstdio>
 #include <exception>

@@ -4,7 +4,7 @@
 
 #include "cli.h"
 
-#include <pcl_patchdict/sparse_patch_inpainter.h>
+#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
 
 #include <set>
 #include <string>

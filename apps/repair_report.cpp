@@ -2,9 +2,9 @@
 // display or GPU needed, so it works on a headless machine), a coloured PLY written here.
 #include "repair_report.h"
 
-#include <pcl_patchdict/atomic_file.h>
-#include <pcl_patchdict/mesh_render.h>
-#include <pcl_patchdict/metrics.h>
+#include <pcl_patchdict/io/atomic_file.h>
+#include <pcl_patchdict/eval/mesh_render.h>
+#include <pcl_patchdict/geometry/metrics.h>
 
 #include <algorithm>
 #include <cstdint>

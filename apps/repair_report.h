@@ -4,7 +4,7 @@
 
 #include "cli.h"
 
-#include <pcl_patchdict/triangle_mesh.h>
+#include <pcl_patchdict/core/triangle_mesh.h>
 
 #include <string>
 

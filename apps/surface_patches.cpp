@@ -2,10 +2,11 @@
 
 #include "cli.h"
 
-#include <pcl_patchdict/coarse_mesh_estimation.h>
-#include <pcl_patchdict/height_map_patch_extractor.h>
-#include <pcl_patchdict/mesh_hygiene.h>
-#include <pcl_patchdict/normalization.h>
+#include <pcl_patchdict/geometry/coarse_mesh_estimation.h>
+#include <pcl_patchdict/patches/height_map_patch_extractor.h>
+#include <pcl_patchdict/geometry/mesh_hygiene.h>
+#include <pcl_patchdict/core/normalization.h>
+#include <pcl_patchdict/pcl/conversions.h>
 
 #include <cmath>
 
@@ -62,6 +63,16 @@ SurfacePatches surfacePatches(const std::string& path, const SurfacePatchOptions
     out.patches = extractMeshPatches(surface, seeds, options.quad_length, options.grid_size);
   }
   return out;
+}
+
+
+SeedPlacement parseSeedPlacement(const std::string& name)
+{
+  if (name == "quads")
+    return SeedPlacement::Quads;
+  if (name == "random")
+    return SeedPlacement::Random;
+  throw UsageError("--placement must be quads or random, not '" + name + "'");
 }
 
 }  // namespace cli

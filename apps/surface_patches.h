@@ -2,7 +2,7 @@
 // on the mesh or a cloud's coarse Poisson surface, exact or binned heights); `learn` reuses it.
 #pragma once
 
-#include "patch_seeds.h"
+#include <pcl_patchdict/patches/patch_seeds.h>
 
 #include <Eigen/Core>
 
@@ -40,6 +40,9 @@ struct SurfacePatches {
   * the stages load, coarse_surface, seeds, extract. Throws Error (one line) for a bad surface. */
 SurfacePatches surfacePatches(const std::string& path, const SurfacePatchOptions& options, bool quiet,
                               StageTimer* timer = nullptr);
+
+/** "quads" or "random" (UsageError otherwise). */
+SeedPlacement parseSeedPlacement(const std::string& name);
 
 }  // namespace cli
 }  // namespace patchdict

@@ -2,13 +2,13 @@
 // normalised to the unit cube), with the CLI's seeds and frames (apps/patch_seeds: random
 // area-uniform seeds, 12 per patch area at L = 0.03, N = 16), on 1 and 2 OpenMP threads; and on
 // the bundled bunny. Items/s in the output are patches per second.
-#include "patch_seeds.h"
+#include <pcl_patchdict/patches/patch_seeds.h>
 
-#include <pcl_patchdict/height_map_patch_extractor.h>
-#include <pcl_patchdict/mesh_hygiene.h>
-#include <pcl_patchdict/mesh_io.h>
-#include <pcl_patchdict/normalization.h>
-#include <pcl_patchdict/shapes.h>
+#include <pcl_patchdict/patches/height_map_patch_extractor.h>
+#include <pcl_patchdict/geometry/mesh_hygiene.h>
+#include <pcl_patchdict/io/mesh_io.h>
+#include <pcl_patchdict/core/normalization.h>
+#include <pcl_patchdict/eval/shapes.h>
 
 #include <benchmark/benchmark.h>
 
@@ -48,7 +48,7 @@ const TriangleMesh& bunny()
 void extract(benchmark::State& state, const TriangleMesh& mesh)
 {
   const int threads = static_cast<int>(state.range(0));
-  const cli::SeedsAndFrames seeds = cli::computeSeedsAndFrames(mesh, kQuadLength, 1, 1);
+  const SeedsAndFrames seeds = computeSeedsAndFrames(mesh, kQuadLength, 1, 1);
   HeightMapPatchExtractor extractor;
   extractor.setInputMesh(mesh);
   extractor.setSeeds(seeds.seeds, seeds.frames);

@@ -3,8 +3,8 @@
 // OpenMP threads. Query points: half uniform in the bounding box grown by 20 % on every side,
 // half within ~1 % of the box diagonal of the surface (the case the metrics mostly see).
 // Items/s in the output are queries per second.
-#include <pcl_patchdict/metrics.h>
-#include <pcl_patchdict/shapes.h>
+#include <pcl_patchdict/geometry/metrics.h>
+#include <pcl_patchdict/eval/shapes.h>
 
 #include <benchmark/benchmark.h>
 

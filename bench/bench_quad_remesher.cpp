@@ -4,12 +4,12 @@
 //    faces and subdivided once (278k faces);
 //  - a torus of unit-cube size at 25k, 100k and 400k faces (the "scaled copies").
 // Arguments: faces (thousands), threads. Time per remeshing in seconds; counters: quads, faces/s.
-#include <pcl_patchdict/coarse_mesh_estimation.h>
-#include <pcl_patchdict/mesh_hygiene.h>
-#include <pcl_patchdict/mesh_io.h>
-#include <pcl_patchdict/normalization.h>
-#include <pcl_patchdict/quad_remesher.h>
-#include <pcl_patchdict/shapes.h>
+#include <pcl_patchdict/geometry/coarse_mesh_estimation.h>
+#include <pcl_patchdict/geometry/mesh_hygiene.h>
+#include <pcl_patchdict/io/mesh_io.h>
+#include <pcl_patchdict/core/normalization.h>
+#include <pcl_patchdict/quads/quad_remesher.h>
+#include <pcl_patchdict/eval/shapes.h>
 
 #include <benchmark/benchmark.h>
 

@@ -16,8 +16,8 @@
 // representation RMSE at its last coding step (the noise alone gives 0.01).
 //
 // All data is seeded. Repeat with --benchmark_repetitions=3 on a loaded machine and take the best.
-#include <pcl_patchdict/dictionary_learning.h>
-#include <pcl_patchdict/sparse_coding.h>
+#include <pcl_patchdict/coding/dictionary_learning.h>
+#include <pcl_patchdict/coding/sparse_coding.h>
 
 #include <benchmark/benchmark.h>
 

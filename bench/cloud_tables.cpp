@@ -10,11 +10,12 @@
 //            density inside the discs; for the holes rows, "parameter" counts the added points elsewhere
 //            (openings of the mesh itself that are narrower than the hole limit).
 // usage: cloud_tables MESH... [--noise 0.5,1] [--radii 3,4,6,8,10,12] [--threads T] [--csv FILE]
-#include <pcl_patchdict/metrics.h>
-#include <pcl_patchdict/mesh_io.h>
-#include <pcl_patchdict/normalization.h>
-#include <pcl_patchdict/sparse_patch_cloud_inpainter.h>
-#include <pcl_patchdict/surface_sampling.h>
+#include <pcl_patchdict/geometry/metrics.h>
+#include <pcl_patchdict/io/mesh_io.h>
+#include <pcl_patchdict/core/normalization.h>
+#include <pcl_patchdict/cloud/sparse_patch_cloud_inpainter.h>
+#include <pcl_patchdict/core/surface_sampling.h>
+#include <pcl_patchdict/pcl/conversions.h>
 
 #include <pcl/filters/statistical_outlier_removal.h>
 #include <pcl/search/kdtree.h>

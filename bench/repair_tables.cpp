@@ -14,15 +14,15 @@
 // our base (Taubin, iterations by the discrepancy principle).
 // The cases are this program's own (mesh_damage.h), not the harness's: figures differ from
 // ../shared/harness/BASELINES.md by the draw of the damage, not by the protocol.
-#include <pcl_patchdict/error.h>
-#include <pcl_patchdict/mesh_damage.h>
-#include <pcl_patchdict/mesh_fairing.h>
-#include <pcl_patchdict/mesh_io.h>
-#include <pcl_patchdict/metrics.h>
-#include <pcl_patchdict/normalization.h>
-#include <pcl_patchdict/patch_correction.h>
-#include <pcl_patchdict/sparse_patch_inpainter.h>
-#include <pcl_patchdict/taubin_smoothing.h>
+#include <pcl_patchdict/core/error.h>
+#include <pcl_patchdict/eval/mesh_damage.h>
+#include <pcl_patchdict/geometry/mesh_fairing.h>
+#include <pcl_patchdict/io/mesh_io.h>
+#include <pcl_patchdict/geometry/metrics.h>
+#include <pcl_patchdict/core/normalization.h>
+#include <pcl_patchdict/repair/patch_correction.h>
+#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
+#include <pcl_patchdict/geometry/taubin_smoothing.h>
 
 #include <chrono>
 #include <cstdio>

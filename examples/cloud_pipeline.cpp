@@ -1,6 +1,6 @@
 // cloud_pipeline IN.pcd OUT.ply — a noisy scan to a watertight mesh: statistical outlier removal →
 // patch denoising with oriented normals (SparsePatchCloudInpainter) → Poisson → PLY.
-#include <pcl_patchdict/sparse_patch_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/sparse_patch_cloud_inpainter.h>
 
 #include <pcl/filters/statistical_outlier_removal.h>
 #include <pcl/io/pcd_io.h>

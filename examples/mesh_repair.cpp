@@ -2,10 +2,10 @@
 // patches learned from the mesh itself (SparsePatchInpainter, Holes mode).
 // usage: mesh_repair IN OUT [MAX_HOLE_DIAMETER]   (PLY, OBJ, OFF or STL, from the extensions;
 //        the diameter in the mesh's units, default 10 % of its bounding-box diagonal)
-#include <pcl_patchdict/hole_filling.h>
-#include <pcl_patchdict/mesh_io.h>
-#include <pcl_patchdict/sparse_patch_inpainter.h>
-#include <pcl_patchdict/triangle_mesh.h>
+#include <pcl_patchdict/geometry/hole_filling.h>
+#include <pcl_patchdict/io/mesh_io.h>
+#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
+#include <pcl_patchdict/core/triangle_mesh.h>
 
 #include <cstdio>
 #include <cstdlib>

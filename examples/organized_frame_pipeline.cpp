@@ -1,6 +1,6 @@
 // organized_frame_pipeline IN.pcd OUT.pcd — a robot's depth frame, repaired and consumed as a robot
 // pipeline would: fill and denoise in place (SparsePatchCloudInpainter), then PCL's organised normals.
-#include <pcl_patchdict/sparse_patch_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/sparse_patch_cloud_inpainter.h>
 
 #include <pcl/features/integral_image_normal.h>
 #include <pcl/io/pcd_io.h>

@@ -3,10 +3,10 @@
 // accepted result that breaks these checks) is a finding.
 #pragma once
 
-#include <pcl_patchdict/error.h>
-#include <pcl_patchdict/mesh_io.h>
-#include <pcl_patchdict/patch_dictionary.h>
-#include <pcl_patchdict/triangle_mesh.h>
+#include <pcl_patchdict/core/error.h>
+#include <pcl_patchdict/io/mesh_io.h>
+#include <pcl_patchdict/coding/patch_dictionary.h>
+#include <pcl_patchdict/core/triangle_mesh.h>
 
 #include <cstdint>
 #include <cstdio>

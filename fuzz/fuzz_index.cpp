@@ -1,7 +1,7 @@
 // libFuzzer target: vertex index files (parseIndexFile, the reader of --missing / --vertices).
 #include "fuzz_common.h"
 
-#include <pcl_patchdict/index_io.h>
+#include <pcl_patchdict/io/index_io.h>
 
 #include <vector>
 

@@ -2,7 +2,7 @@
 // each input goes through one temporary file per process).
 #include "fuzz_common.h"
 
-#include <pcl_patchdict/mesh_io.h>
+#include <pcl_patchdict/io/mesh_io.h>
 
 #include <unistd.h>
 

@@ -3,7 +3,7 @@
 // they drive.
 #include "fuzz_common.h"
 
-#include <pcl_patchdict/patch_codec.h>
+#include <pcl_patchdict/codec/patch_codec.h>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {

@@ -1,7 +1,7 @@
 // libFuzzer target: the .pdd dictionary reader (PatchDictionary::fromBytes).
 #include "fuzz_common.h"
 
-#include <pcl_patchdict/patch_dictionary.h>
+#include <pcl_patchdict/coding/patch_dictionary.h>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {

@@ -2,7 +2,7 @@
 // a resumed run applies to what it read (OnlineDictionaryLearner / PatchShuffleBuffer::setState).
 #include "fuzz_common.h"
 
-#include <pcl_patchdict/learning_checkpoint.h>
+#include <pcl_patchdict/coding/learning_checkpoint.h>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {

@@ -1,7 +1,7 @@
 // libFuzzer target: the .pds patch-set reader (PatchSet::fromBytes).
 #include "fuzz_common.h"
 
-#include <pcl_patchdict/patch_set.h>
+#include <pcl_patchdict/patches/patch_set.h>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {

@@ -3,7 +3,7 @@
 # (build-asan/, -O1 with line tables, without the benchmarks and the examples; measured in CI's
 # rehearsal of 8d5a880 on 2 idle cores: build and suite 1067 s, the suite 521 s of it, with
 # .ci/run's exclusions). Leak detection is on; the one suppression (PCL's Poisson table) sits beside the Poisson call
-# in src/coarse_mesh_estimation.cpp. Extra arguments go to ctest (e.g. -R CliBadInput).
+# in src/geometry/coarse_mesh_estimation.cpp. Extra arguments go to ctest (e.g. -R CliBadInput).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build_dir="${PCL_PATCHDICT_ASAN_BUILD_DIR:-$root/build-asan}"

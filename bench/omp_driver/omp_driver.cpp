@@ -11,7 +11,7 @@
 // one JSON line with the wall time of each run and the best. Timed: batchOMP itself, i.e. Dᵀx
 // (inside batchOMP), the OMP iterations and assembling the sparse code matrix. Not timed: DᵀD,
 // which batchOMP takes precomputed (once per dictionary), and the file I/O.
-#include <pcl_patchdict/sparse_coding.h>
+#include <pcl_patchdict/coding/sparse_coding.h>
 
 #include <Eigen/Core>
 

@@ -2,8 +2,8 @@
 // small text and error helpers they share. Not installed.
 #pragma once
 
-#include <pcl_patchdict/error.h>
-#include <pcl_patchdict/mesh_io.h>
+#include <pcl_patchdict/core/error.h>
+#include <pcl_patchdict/io/mesh_io.h>
 
 #include <cstddef>
 #include <cstdint>

@@ -6,9 +6,9 @@
 // number for text formats), never a crash, a hang or a huge allocation. PCD, PCL's own format, goes
 // through pcl::io.
 
-#include "formats.h"
+#include "io/formats.h"
 
-#include <pcl_patchdict/atomic_file.h>
+#include <pcl_patchdict/io/atomic_file.h>
 
 #include <atomic>
 #include <cerrno>

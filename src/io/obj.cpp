@@ -1,7 +1,7 @@
 // Wavefront OBJ reader and writer: geometry records (v, vn, f) only; materials, groups, texture
 // coordinates and free-form records are counted and ignored. Errors name the line.
 
-#include "formats.h"
+#include "io/formats.h"
 
 #include <limits>
 #include <utility>

@@ -1,7 +1,7 @@
 // OFF (Geomview Object File Format) reader and writer: OFF, NOFF (normals read), COFF/STOFF (colours
 // and texture coordinates after the coordinates ignored), '#' comments, polygons fan-triangulated.
 
-#include "formats.h"
+#include "io/formats.h"
 
 #include <limits>
 #include <vector>

@@ -2,9 +2,10 @@
 // round trip is exact only for coordinates that are representable as float; others are rounded.
 // Clouds from depth sensors carry NaN points: they are dropped (and counted), not an error.
 
-#include "formats.h"
+#include "io/formats.h"
 
-#include <pcl_patchdict/atomic_file.h>
+#include <pcl_patchdict/io/atomic_file.h>
+#include <pcl_patchdict/pcl/conversions.h>
 
 #include <algorithm>
 #include <exception>

@@ -2,7 +2,7 @@
 // Every count the header declares is checked against the bytes that follow before anything is
 // allocated, so a corrupt header cannot make us reserve gigabytes or read past the buffer.
 
-#include "formats.h"
+#include "io/formats.h"
 
 #include <algorithm>
 #include <cmath>

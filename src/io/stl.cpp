@@ -2,7 +2,7 @@
 // STL stores a soup of triangles; identical positions (bit for bit) are merged into one vertex,
 // numbered in order of first appearance, to give an indexed mesh.
 
-#include "formats.h"
+#include "io/formats.h"
 
 #include <cstring>
 #include <limits>

@@ -1,0 +1,54 @@
+// LearningCheckpoint — everything a streamed online-learning run needs to continue bit for bit
+// (learner, shuffle buffer, position in the inputs), as a binary .pdk file written atomically.
+#pragma once
+
+#include <pcl_patchdict/coding/dictionary_learning.h>
+#include <pcl_patchdict/coding/patch_shuffle_buffer.h>
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace pcl {
+namespace patchdict {
+
+/** \brief The state of `learn --method online` between two inputs. `settings` are the named
+  * parameters that shape the result (atoms, seed, grid, …, as the caller writes them); with
+  * `inputs_fingerprint` they let a resumed run refuse to continue a different job.
+  *
+  * For several machines (Mairal et al. 2009's statistics are sums): every machine starts from the
+  * same checkpoint (D, A₀, B₀) and codes its shard of a mini-batch; each reports ΔA = A − β A₀ and
+  * ΔB = B − β B₀ (its own forgetting factor β); A = β' A₀ + Σ ΔA, B = β' B₀ + Σ ΔB (β' of the
+  * combined batch) and OnlineDictionaryLearner::updateAtoms() give the step one machine would have
+  * taken on the combined batch (README, "Global dictionaries"; test ShardStatisticsAddUp).
+  *
+  * File layout (.pdk, little-endian): magic "PCLPDK\0\x1a", version, then the fields below in
+  * order (strings and matrices with their sizes first), then FNV-1a 64 of everything before it. */
+struct LearningCheckpoint {
+  std::vector<std::pair<std::string, std::string>> settings;
+  std::uint64_t inputs_fingerprint = 0;
+  std::uint64_t num_inputs = 0;
+
+  std::uint32_t pass = 0;        ///< the pass in progress (== passes when the run is complete)
+  std::uint64_t next_input = 0;  ///< index of the next input to stream in that pass
+  std::int32_t grid_size = 0;    ///< of the patches seen so far (0: none yet)
+  std::uint64_t patches = 0;     ///< distinct patches (first pass)
+  std::uint64_t patches_streamed = 0;
+  double observed_sum = 0.0;  ///< Σ over first-pass patches of their observed fraction
+  std::vector<std::pair<std::uint64_t, std::string>> skipped;  ///< input index, reason
+
+  OnlineDictionaryLearner::State learner;
+  PatchShuffleBuffer::State buffer;
+
+  /** Atomic write (writeFileAtomically). */
+  void save(const std::string& path) const;
+  /** Rejects a truncated, corrupted or foreign file, or one of another version, with one line
+    * (Error), checking every size against the bytes left before allocating. */
+  static LearningCheckpoint load(const std::string& path);
+  static LearningCheckpoint fromBytes(const std::string& bytes, const std::string& name = "<memory>");
+  std::string toBytes() const;
+};
+
+}  // namespace patchdict
+}  // namespace pcl

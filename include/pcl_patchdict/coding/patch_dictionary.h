@@ -1,0 +1,119 @@
+// PatchDictionary — a learned dictionary of N×N height-map atoms (section 4 of Sarkar et al. 2017):
+// learn it (K-SVD or online), code patches with Batch-OMP or masked OMP, decode, save as .pdd.
+#pragma once
+
+#include <pcl_patchdict/coding/dictionary_learning.h>
+#include <pcl_patchdict/coding/sparse_coding.h>
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace pcl {
+namespace patchdict {
+
+/** Sparse codes of a set of patches, with the per-patch mean height when the dictionary removes it. */
+struct PatchCodes {
+  SparseCodes coefficients;  ///< K × P
+  Eigen::VectorXd means;     ///< P (zeros when the dictionary keeps the mean in the atoms)
+};
+
+class PatchDictionary {
+public:
+  using Ptr = std::shared_ptr<PatchDictionary>;
+  using ConstPtr = std::shared_ptr<const PatchDictionary>;
+
+  enum class LearningMethod : std::uint32_t { KSVD = 0, Online = 1 };
+
+  PatchDictionary() = default;
+
+  /** Learning parameters (defaults: 100 atoms, sparsity 8, 20 K-SVD iterations or 3 online
+    * epochs, batch 512, seed 1, mean kept). */
+  void setNumAtoms(int num_atoms) { num_atoms_ = num_atoms; }
+  int getNumAtoms() const { return num_atoms_; }
+  void setSparsity(int sparsity) { sparsity_ = sparsity; }
+  int getSparsity() const { return sparsity_; }
+  void setIterations(int iterations) { iterations_ = iterations; }
+  int getIterations() const { return iterations_; }
+  void setLearningMethod(LearningMethod method) { method_ = method; }
+  LearningMethod getLearningMethod() const { return method_; }
+  void setBatchSize(int batch_size) { batch_size_ = batch_size; }
+  int getBatchSize() const { return batch_size_; }
+  void setSeed(std::uint64_t seed) { seed_ = seed; }
+  std::uint64_t getSeed() const { return seed_; }
+  /** Subtract each patch's mean observed height before coding and add it back on decoding. */
+  void setRemoveMean(bool remove_mean) { remove_mean_ = remove_mean; }
+  bool getRemoveMean() const { return remove_mean_; }
+
+  /** \brief Learns the atoms from patches (N² × P, one column per patch, N² a square). Unobserved
+    * bins (mask false) are ignored. With LearningMethod::Online, `iterations` is the number of
+    * passes over the data. Throws Error for bad sizes or parameters. */
+  LearningReport learn(const Eigen::MatrixXd& patches, const ObservationMask& mask = ObservationMask());
+
+  /** Uses the given atoms (N² × K, normalised here) instead of learning them; `training_patches`
+    * is what the .pdd file records as their origin (e.g. an OnlineDictionaryLearner's count). */
+  void setAtoms(const Eigen::MatrixXd& atoms, std::uint64_t training_patches = 0);
+
+  /** Sparse codes of fully observed patches (Batch-OMP). */
+  PatchCodes encode(const Eigen::MatrixXd& patches, const SparseCodingParameters& parameters) const;
+  /** Sparse codes from the observed bins only (masked OMP); decode() then fills every bin. */
+  PatchCodes encodeMasked(const Eigen::MatrixXd& patches, const ObservationMask& mask,
+                          const SparseCodingParameters& parameters) const;
+  /** D·codes (+ means): the patches the codes describe. */
+  Eigen::MatrixXd decode(const PatchCodes& codes) const;
+
+  /** Writes the .pdd file (atomically). */
+  void save(const std::string& path) const;
+  /** Reads a .pdd file; with expected_grid_size > 0, a dictionary of another grid is an error.
+    * Truncated, corrupted (checksum) or implausible files are rejected with one clear line. */
+  static Ptr load(const std::string& path, int expected_grid_size = 0);
+  /** The same from the bytes of a .pdd file held in memory; `name` is what error messages call it. */
+  static Ptr fromBytes(const std::string& bytes, int expected_grid_size = 0, const std::string& name = "<memory>");
+  /** Writes the atoms as a PNG contact sheet (like Fig. 5, left, of the paper). */
+  void saveAtomsPNG(const std::string& path, int columns = 20, int pixels_per_bin = 4) const;
+
+  bool empty() const { return atoms_.size() == 0; }
+  int gridSize() const { return grid_size_; }
+  const Eigen::MatrixXd& atoms() const { return atoms_; }
+  const Eigen::MatrixXd& gram() const { return gram_; }
+  /** Number of patches the atoms were learned from (0 if set directly). */
+  std::uint64_t trainingPatches() const { return training_patches_; }
+  /** 64-bit fingerprint of the atoms and the mean option: what a compressed file records to
+    * refuse decoding with another dictionary. */
+  std::uint64_t fingerprint() const;
+
+private:
+  void requireAtoms() const;
+  void checkPatches(const Eigen::MatrixXd& patches) const;
+  Eigen::VectorXd patchMeans(const Eigen::MatrixXd& patches, const ObservationMask* mask) const;
+  /** The patches less their means (built in `storage`) when the mean is removed, else the
+    * patches themselves, uncopied. */
+  const Eigen::MatrixXd& centred(const Eigen::MatrixXd& patches, const Eigen::VectorXd& means,
+                                 Eigen::MatrixXd& storage) const;
+
+  int num_atoms_ = 100;
+  int sparsity_ = 8;
+  int iterations_ = 20;
+  int batch_size_ = 512;
+  LearningMethod method_ = LearningMethod::KSVD;
+  std::uint64_t seed_ = 1;
+  bool remove_mean_ = false;
+
+  int grid_size_ = 0;
+  std::uint64_t training_patches_ = 0;
+  Eigen::MatrixXd atoms_;  // N² × K, unit columns
+  Eigen::MatrixXd gram_;   // atomsᵀ · atoms
+};
+
+/** RMS of estimate − heights over the entries `mask` marks observed (all entries for an empty
+  * mask); 0 when nothing is observed. How well codes describe the surface they were fitted to. */
+double observedRMSE(const Eigen::MatrixXd& estimate, const Eigen::MatrixXd& heights,
+                    const ObservationMask& mask = ObservationMask());
+
+/** 64-bit FNV-1a of a byte range: the checksum of the project's binary formats. */
+std::uint64_t fnv1a64(const void* data, std::size_t size, std::uint64_t hash = 0xcbf29ce484222325ULL);
+
+}  // namespace patchdict
+}  // namespace pcl

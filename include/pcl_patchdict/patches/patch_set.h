@@ -1,0 +1,57 @@
+// PatchSet — the height-map patches of a surface (section 3 of Sarkar et al. 2017): grid size N,
+// radius r, per patch its seed s and frame R_s, its N² heights and which bins were observed; saved as .pds.
+#pragma once
+
+#include <pcl_patchdict/coding/dictionary_learning.h>
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pcl {
+namespace patchdict {
+
+/** \brief Patches as columns: bin (i, j) — i the column along the frame's X, j the row along its
+  * Y — is row j·N + i of `heights`, so a column read row-major is the height map as an image.
+  *
+  * Frames are kept as rotation matrices whose rows are the frame's X, Y, Z axes (local =
+  * R·(p − s), world = s + Rᵀ·local, the T_s of section 3.1), in double: the pcl::ReferenceFrame
+  * the extractor receives converts to double exactly, and the reconstruction stage works in
+  * double, so it never has to go back through float[3] triplets. */
+struct PatchSet {
+  int grid_size = 0;        ///< N: a patch has N×N bins
+  double radius = 0.0;      ///< r: patch side √2·r, neighbourhood radius r
+  std::vector<Eigen::Vector3d> seeds;      ///< P seed points s (patch origins)
+  std::vector<Eigen::Matrix3d> rotations;  ///< P rotations, rows = X, Y, Z axes of the frame
+  Eigen::MatrixXd heights;                 ///< N² × P; 0 where unobserved
+  ObservationMask observed;                ///< N² × P
+  std::vector<std::int32_t> source;        ///< P: which input (shape) each patch came from
+
+  std::size_t numPatches() const { return seeds.size(); }
+  /** Side of the square grid, √2·r (section 3.2 of the paper). */
+  double side() const;
+  /** Fraction of observed bins over all patches (0 for an empty set). */
+  double observedFraction() const;
+  /** Throws Error (one line) if the members disagree in size or hold non-finite values. */
+  void check() const;
+  /** Appends another set's patches (same grid size and radius, else Error): global sets. */
+  void append(const PatchSet& other);
+
+  /** Writes the binary .pds file atomically (little-endian; magic, version, N, r, P, then seeds,
+    * rotations, heights, mask, sources, and an FNV-1a 64 checksum of everything before it). */
+  void save(const std::string& path) const;
+  /** Reads a .pds file. Truncated, corrupted (checksum), mismatched (magic, version) or
+    * implausible files are rejected with one clear line (pcl::patchdict::Error), before any
+    * allocation larger than the file itself. */
+  static PatchSet load(const std::string& path);
+  /** The same from the bytes of a .pds file held in memory; `name` is what error messages call it. */
+  static PatchSet fromBytes(const std::string& bytes, const std::string& name = "<memory>");
+  /** Contact sheet of the patches (first `max_patches` of them when > 0), unobserved bins drawn
+    * as a checker, `columns` tiles per row. */
+  void savePNG(const std::string& path, int columns = 20, int pixels_per_bin = 4, std::size_t max_patches = 0) const;
+};
+
+}  // namespace patchdict
+}  // namespace pcl

@@ -1,0 +1,170 @@
+// SparsePatchInpainter — repairs a mesh with a dictionary of height-map patches (sections 4.3 and
+// 5.3 of Sarkar et al. 2017), with the geometric solution as the base and the first guess:
+// patches only correct it through confidence-weighted point-to-plane constraints (FINDINGS.md).
+#pragma once
+
+#include <pcl_patchdict/geometry/hole_filling.h>
+#include <pcl_patchdict/repair/patch_correction.h>
+#include <pcl_patchdict/coding/patch_dictionary.h>
+#include <pcl_patchdict/core/triangle_mesh.h>
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace pcl {
+namespace patchdict {
+
+/** \brief Repairs a mesh with patches: missing vertices, holes, or noise.
+  *
+  * Every mode has a geometric base that is also the whole result with setUsePatches(false), and
+  * the patch stage (PatchCorrection) only corrects it through confidence-weighted point-to-plane
+  * constraints (FINDINGS.md: overwriting vertices with patch heights loses to plain geometry):
+  *  - MissingVertices: base = uniform least-squares bi-Laplacian (Sorkine & Cohen-Or 2004), known
+  *    vertices fixed; patches from the faces whose three vertices are known; one joint solve of
+  *    bi-Laplacian energy + μ·Σ w (n·(x − p))² over the missing vertices. Known vertices bit-identical.
+  *  - Holes: base = HoleFilling (Liepa 2003); patches from the input faces, masked OMP fills the
+  *    hole; the new vertices move by a displacement δ minimising Σ|Lδ|² + μ·Σ w (n·(x0+δ − p))²
+  *    (δ = 0 on the input vertices, so a hole without constraints keeps Liepa's fill). L is at
+  *    least hole_quad_factor × the median diameter of the filled holes: a patch must see the rim.
+  *    Measured (docs/hole_size_sweep.csv): on relief (sole, knurl, tiles) self-similar patches
+  *    with the relief settings leave 0.25–0.50 of Liepa's error for holes of radius 0.02–0.07
+  *    (0.36–0.81 at 0.01); on smooth scans no μ tried moves the result beyond the draw-to-draw
+  *    spread around Liepa (a few per cent either way).
+  *  - Denoise: every patch coded to the error target ε = error_factor × σ (σ: the noise level
+  *    given, or estimated from the normal component of the umbrella vectors) or with `sparsity`
+  *    atoms; each vertex moves to the weighted least-squares point of its patches' tangent planes
+  *    with a fidelity term α·Σw·|δ|² around the base, TaubinSmoother with the iteration count of
+  *    the discrepancy principle; vertex count, order and faces kept. Measured on scans (boot,
+  *    noise 0.5 × edge): the patch estimates are worse than the base (the scans are not sparse in
+  *    the atoms at the edge scale: clean boot patches coded with 8 atoms keep 0.13 edge of error).
+  * Without a dictionary a self-similar one is learned from the observed patches (masked K-SVD).
+  * All lengths in the unit-cube normalisation of the input; the output goes back to its frame.
+  * Deterministic for a given input and parameters, whatever the thread count.
+  *
+  * Measured (harness cases): see README "Measured" — missing vertices within ±0.1 % of the
+  * bi-Laplacian (its error there is mostly tangential, which normal constraints cannot reduce). */
+class SparsePatchInpainter {
+public:
+  using Ptr = std::shared_ptr<SparsePatchInpainter>;
+  using ConstPtr = std::shared_ptr<const SparsePatchInpainter>;
+
+  enum class Mode { MissingVertices, Holes, Denoise };
+
+  struct Parameters : PatchCorrectionParameters {
+    double constraint_weight = 0.03;  ///< μ of the missing-vertex and hole solves
+    /// Holes: L ≥ this × median diameter of the filled holes (normalised units).
+    double hole_quad_factor = 0.6;  ///< (relief test: 0.6 → −42 % error vs Liepa, 1.0 → +100 %)
+    /// Holes: which settings — Auto measures with checkPatchPrediction whether the dictionary
+    /// predicts a hidden disc (relief_probe_radius × the median hole diameter d, at most 0.3 × the
+    /// patch side) better than a biharmonic fill, for patch sides relief_probe_factors × d on one
+    /// layout; gain ≥ relief_gain with a margin ≥ relief_min_improvement → the relief settings at
+    /// the best side. Measured gains: smooth scans 0.67–1.09 (harness holes of radius 0.02 and
+    /// 0.035 on boot, demosthenes, max_planck, lucy), sole/knurl/tiles 1.49–7.5. Smooth
+    /// keeps the parameters as given; Relief forces the relief settings. A quad_length given by
+    /// the caller (> 0) is kept by both, with its patch side patch_scale × L (the paper's Fig. 8a
+    /// protocol); the check then probes that layout at that patch side, and only decides relief or
+    /// smooth.
+    enum class HoleSettings { Auto, Smooth, Relief };
+    HoleSettings hole_settings = HoleSettings::Auto;
+    std::vector<double> relief_probe_factors{0.8, 1.2, 1.6};  ///< patch sides, × d (one layout: the smooth L, if automatic)
+    double relief_probe_radius = 0.35;  ///< hidden disc radius of the probe, × d
+    /// The verdict probe on the smooth settings' layout uses at most this many of its seeds, evenly
+    /// spaced (0: all): it needs tens of test patches, not thousands (lucy, 100k faces: 1.3 → 0.6 s).
+    /// A relief verdict is followed by a full probe that picks the patch side.
+    int relief_probe_max_seeds = 600;
+    double relief_gain = 1.3;  ///< (1.5 missed the sole at radius 0.05: gain 1.49)
+    /// …and only if the dictionary's error is below the biharmonic one by this × mean edge
+    /// (measured: sole 0.87, knurl 0.63, tiles 0.72; a perfect sphere ~0).
+    double relief_min_improvement = 0.1;
+    /// Relief settings (sole, harness holes 0.035: removed→out 2.899 → 1.046 with these, L 0.8 d):
+    /// μ 10, overlap 2, no fit or agreement weighting (the relief's own patches fit and agree).
+    double relief_constraint_weight = 10.0;
+    int relief_overlap = 2;
+    /// Denoise: the noise σ along the normals (normalised units; 0 = estimated).
+    double noise_sigma = 0.0;
+    double error_factor = 0.7;  ///< ε = error_factor × σ per bin (0: fixed sparsity)
+    double fidelity = 0.05;     ///< α: weight of staying at the base, relative to the patches
+    /// Denoise base: TaubinSmoother (λ 0.5, μ −0.53, inverse-distance weights) with this many
+    /// iterations; −1 = automatic, the first count whose rms displacement reaches discrepancy × σ
+    /// (Morozov's discrepancy principle); 0 = the noisy input itself.
+    int base_iterations = -1;
+    /// Measured at noise 0.5 × edge (boot, demosthenes, lucy): 0.9 → 2.870 / 3.437 / 1.352, 0.95 →
+    /// 2.906 / 3.360 / 1.355, 1.0 → 3.015 / 3.391 / 1.393 (×1e-3; Open3D Taubin oracle 2.929 / 3.398 / 1.376).
+    double discrepancy = 0.95;
+    int max_base_iterations = 100;
+  };
+
+  struct Report {
+    Mode mode = Mode::MissingVertices;
+    std::size_t missing_vertices = 0;
+    std::size_t isolated_missing = 0;  ///< missing vertices in no face: left where the input had them
+    std::size_t moved_vertices = 0;    ///< vertices the mode may move (free, new, or all)
+    bool used_patches = false;
+    double mean_edge_length = 0.0;     ///< of the base, normalised units
+    double noise_sigma = 0.0;          ///< denoise: σ used (normalised units)
+    int base_iterations = 0;           ///< denoise: Taubin iterations of the base
+    bool noise_estimated = false;
+    HoleFilling::Report holes;         ///< holes mode: what Liepa's filling did
+    bool relief = false;               ///< holes mode: the relief settings were used
+    double relief_gain = 0.0;          ///< holes mode: best significant gain of the check (else best gain; 0: not run)
+    double seconds_check = 0.0;        ///< the relief check, of which:
+    double seconds_check_layout = 0.0, seconds_check_patches = 0.0, seconds_check_prediction = 0.0;
+    PatchCorrectionReport patches;     ///< the patch stage
+    double mean_correction = 0.0;      ///< mean |x − base| over the moved vertices (normalised)
+    double seconds_base = 0.0, seconds_patch_stage = 0.0, seconds_solve = 0.0;
+  };
+
+  SparsePatchInpainter() = default;
+
+  /** The measured defaults of a mode (the Parameters' own defaults are the missing-vertex ones):
+    * Holes: μ 0.1, fit_scale 0.02 (harness holes 0.035, self-similar: within 1.2 % of Liepa on
+    * boot, demosthenes, max_planck and lucy — a tie; larger μ was worse); Denoise:
+    * quad_length_factor 6, sparsity 20. */
+  static Parameters defaultParameters(Mode mode);
+
+  void setInputMesh(const TriangleMesh& mesh) { input_ = std::make_shared<const TriangleMesh>(mesh); }
+  void setInputMesh(const std::shared_ptr<const TriangleMesh>& mesh) { input_ = mesh; }
+  /** Dictionary to code the patches with (null: self-similar, learned from the input). */
+  void setDictionary(const PatchDictionary::ConstPtr& dictionary) { dictionary_ = dictionary; }
+  /** Holes mode: how holes are chosen and filled (its input mesh is ignored: process() sets it). */
+  void setHoleFilling(const HoleFilling& filling) { hole_filling_ = filling; }
+  /** Indices of the vertices whose positions are unknown (their input positions are ignored). */
+  void setMissingVertices(const std::vector<int>& indices) { missing_ = indices; }
+  void setMode(Mode mode) { mode_ = mode; }
+  Mode getMode() const { return mode_; }
+  /** false: the geometric base alone (bi-Laplacian, Liepa, or the input for Denoise). */
+  void setUsePatches(bool use_patches) { use_patches_ = use_patches; }
+  bool getUsePatches() const { return use_patches_; }
+
+  void setParameters(const Parameters& parameters) { parameters_ = parameters; }
+  const Parameters& getParameters() const { return parameters_; }
+  void setQuadLength(double quad_length) { parameters_.quad_length = quad_length; }
+  void setQuadLengthFactor(double factor) { parameters_.quad_length_factor = factor; }
+  void setSparsity(int sparsity) { parameters_.sparsity = sparsity; }
+  void setConstraintWeight(double mu) { parameters_.constraint_weight = mu; }
+  void setNumberOfThreads(int threads) { parameters_.num_threads = threads; }
+
+  /** Repairs the input into `out`: MissingVertices and Denoise keep vertex count, order and faces
+    * (known vertices bit-identical); Holes keeps the input vertices first, bit-identical, and
+    * appends new ones. Normals are dropped. Throws Error for bad input: no mesh or faces, a
+    * missing index out of range or repeated, no vertex missing, every vertex of a connected part
+    * missing, non-finite positions, an empty dictionary or one whose N is not the grid size. */
+  void process(TriangleMesh& out, Report* report = nullptr) const;
+
+  /** Estimated σ of noise along the normals: 1.4826 × median |n·(x − mean of the 1-ring)| /
+    * √(1 + 1/k̄) (robust; curvature adds a small bias on clean meshes). */
+  static double estimateNoiseSigma(const TriangleMesh& mesh);
+
+private:
+  std::shared_ptr<const TriangleMesh> input_;
+  PatchDictionary::ConstPtr dictionary_;
+  std::vector<int> missing_;
+  HoleFilling hole_filling_;
+  Mode mode_ = Mode::MissingVertices;
+  bool use_patches_ = true;
+  Parameters parameters_;
+};
+
+}  // namespace patchdict
+}  // namespace pcl

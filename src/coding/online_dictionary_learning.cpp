@@ -1,0 +1,149 @@
+// Online dictionary learning (Mairal, Bach, Ponce & Sapiro, "Online dictionary learning for sparse
+// coding", ICML 2009): per mini-batch, code with OMP, fold the codes into the sufficient statistics
+// A = Σ ααᵀ and B = Σ xαᵀ (with the mini-batch forgetting factor), then one block-coordinate pass
+// over the atoms. Unit atom norms are kept (not ≤ 1) because OMP selects by correlation.
+#include "coding/learning_common.h"
+
+#include <pcl_patchdict/core/error.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <numeric>
+
+namespace pcl {
+namespace patchdict {
+
+OnlineDictionaryLearner::OnlineDictionaryLearner(const OnlineLearningParameters& parameters)
+    : parameters_(parameters), rng_(parameters.seed)
+{
+  if (parameters.num_atoms < 1 || parameters.sparsity < 1 || parameters.batch_size < 1)
+    throw Error("online learning: atoms, sparsity and batch size must be at least 1");
+}
+
+void OnlineDictionaryLearner::update(const Eigen::MatrixXd& batch, const ObservationMask& mask)
+{
+  detail::checkTrainingData(batch, mask, parameters_.num_atoms, parameters_.sparsity);
+  const int num_atoms = parameters_.num_atoms;
+  if (dictionary_.size() == 0) {
+    dictionary_ = detail::initialAtoms(batch, mask, num_atoms, rng_);
+    a_ = Eigen::MatrixXd::Zero(num_atoms, num_atoms);
+    b_ = Eigen::MatrixXd::Zero(batch.rows(), num_atoms);
+  } else if (batch.rows() != dictionary_.rows()) {
+    throw Error("online learning: batch signals have " + std::to_string(batch.rows()) + " entries, the dictionary " +
+                std::to_string(dictionary_.rows()));
+  }
+  const Eigen::MatrixXd codes = detail::codeSignals(dictionary_, batch, mask, parameters_.sparsity);
+  // EM step for missing entries: what the current dictionary predicts stands in for them.
+  Eigen::MatrixXd filled = batch;
+  if (mask.size() != 0)
+    filled = mask.select(batch, dictionary_ * codes);
+
+  // Forgetting factor of the mini-batch variant (Mairal et al. 2009, sec. 3.4; as scikit-learn).
+  const double eta = static_cast<double>(batch.cols());
+  const double t = static_cast<double>(steps_);
+  const double theta = t < eta - 1.0 ? (t + 1.0) * eta : eta * eta + t + 1.0 - eta;
+  const double beta = (theta + 1.0 - eta) / (theta + 1.0);
+  a_ = beta * a_ + codes * codes.transpose();
+  b_ = beta * b_ + filled * codes.transpose();
+
+  blockCoordinateUpdate(&filled);
+  seen_ += static_cast<std::size_t>(batch.cols());
+  ++steps_;
+}
+
+void OnlineDictionaryLearner::blockCoordinateUpdate(const Eigen::MatrixXd* restart_from)
+{
+  const int num_atoms = parameters_.num_atoms;
+  for (int j = 0; j < num_atoms; ++j) {
+    if (a_(j, j) < 1e-6) {
+      if (restart_from == nullptr || restart_from->cols() == 0)
+        continue;
+      // An atom nobody uses: restart it from a signal of this batch (as SPAMS does).
+      std::uniform_int_distribution<Eigen::Index> pick(0, restart_from->cols() - 1);
+      Eigen::VectorXd candidate = detail::observedColumn(*restart_from, ObservationMask(), pick(rng_));
+      const double norm = candidate.norm();
+      if (norm > 1e-12)
+        dictionary_.col(j) = candidate / norm;
+      continue;
+    }
+    Eigen::VectorXd atom = dictionary_.col(j) + (b_.col(j) - dictionary_ * a_.col(j)) / a_(j, j);
+    const double norm = atom.norm();
+    if (norm > 1e-12)
+      dictionary_.col(j) = atom / norm;
+  }
+}
+
+void OnlineDictionaryLearner::updateAtoms()
+{
+  if (dictionary_.size() == 0)
+    throw Error("online learning: no dictionary to update yet");
+  blockCoordinateUpdate(nullptr);
+}
+
+OnlineDictionaryLearner::State OnlineDictionaryLearner::state() const
+{
+  State state;
+  state.parameters = parameters_;
+  state.dictionary = dictionary_;
+  state.a = a_;
+  state.b = b_;
+  state.seen = seen_;
+  state.steps = steps_;
+  state.rng = detail::generatorText(rng_);
+  return state;
+}
+
+void OnlineDictionaryLearner::setState(const State& state)
+{
+  const OnlineLearningParameters& p = state.parameters;
+  if (p.num_atoms != parameters_.num_atoms || p.sparsity != parameters_.sparsity ||
+      p.batch_size != parameters_.batch_size || p.seed != parameters_.seed)
+    throw Error("online learning: the saved state was made with other parameters (atoms " +
+                std::to_string(p.num_atoms) + ", sparsity " + std::to_string(p.sparsity) + ", batch " +
+                std::to_string(p.batch_size) + ", seed " + std::to_string(p.seed) + ")");
+  const Eigen::Index k = parameters_.num_atoms;
+  const Eigen::Index n = state.dictionary.rows();
+  const bool empty = state.dictionary.size() == 0;
+  if (empty ? (state.a.size() != 0 || state.b.size() != 0)
+            : (state.dictionary.cols() != k || state.a.rows() != k || state.a.cols() != k || state.b.rows() != n ||
+               state.b.cols() != k))
+    throw Error("online learning: the saved state's matrices disagree in size");
+  if (!state.dictionary.allFinite() || !state.a.allFinite() || !state.b.allFinite())
+    throw Error("online learning: the saved state holds NaN or Inf");
+  const std::mt19937_64 rng = detail::generatorFromText(state.rng, "online learning");
+  dictionary_ = state.dictionary;
+  a_ = state.a;
+  b_ = state.b;
+  seen_ = static_cast<std::size_t>(state.seen);
+  steps_ = static_cast<std::size_t>(state.steps);
+  rng_ = rng;
+}
+
+void OnlineDictionaryLearner::fit(const Eigen::MatrixXd& signals, const ObservationMask& mask, int epochs)
+{
+  detail::checkTrainingData(signals, mask, parameters_.num_atoms, parameters_.sparsity);
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(signals.cols()));
+  const Eigen::Index batch_size = parameters_.batch_size;
+  for (int epoch = 0; epoch < epochs; ++epoch) {
+    std::iota(order.begin(), order.end(), 0);
+    for (std::size_t i = order.size(); i > 1; --i)
+      std::swap(order[i - 1], order[rng_() % i]);
+    for (std::size_t start = 0; start < order.size(); start += static_cast<std::size_t>(batch_size)) {
+      const std::size_t size = std::min(order.size() - start, static_cast<std::size_t>(batch_size));
+      Eigen::MatrixXd batch(signals.rows(), static_cast<Eigen::Index>(size));
+      ObservationMask batch_mask;
+      if (mask.size() != 0)
+        batch_mask.resize(mask.rows(), static_cast<Eigen::Index>(size));
+      for (std::size_t i = 0; i < size; ++i) {
+        batch.col(static_cast<Eigen::Index>(i)) = signals.col(order[start + i]);
+        if (mask.size() != 0)
+          batch_mask.col(static_cast<Eigen::Index>(i)) = mask.col(order[start + i]);
+      }
+      update(batch, batch_mask);
+    }
+  }
+}
+
+}  // namespace patchdict
+}  // namespace pcl

@@ -1,0 +1,364 @@
+// Batch-OMP after Rubinstein, Zibulevsky & Elad, "Efficient implementation of the K-SVD algorithm
+// using Batch Orthogonal Matching Pursuit", Technion CS-2008-08: the residual is never formed; the
+// correlations are updated through Gram columns and the least-squares fit through a progressive
+// Cholesky factor of G_II. Masked OMP runs the same kernel on the column-normalised observed rows.
+#include <pcl_patchdict/core/error.h>
+#include <pcl_patchdict/coding/sparse_coding.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+namespace pcl {
+namespace patchdict {
+
+namespace {
+
+// Gram access for a precomputed G.
+struct FullGram {
+  const Eigen::MatrixXd& gram;
+  const double* column(int k) { return gram.col(k).data(); }
+};
+
+// Masked Gram columns computed only when an atom is chosen — for a signal whose mask nobody else
+// shares this costs S·n·K at most, where the whole masked Gram matrix would cost n·K². Column k of
+// the normalised masked Gram is s ⊙ Dᵀ(m ⊙ d_k) · s_k (s: inverse masked atom norms); with few
+// hidden rows U it is cheaper as s ⊙ (G_k − Σ_{r∈U} D_rk · D_r,:ᵀ) · s_k.
+struct LazyMaskedGram {
+  const Eigen::MatrixXd& dictionary;    // n × K
+  const Eigen::MatrixXd& dictionary_t;  // K × n
+  const Eigen::MatrixXd& gram;          // DᵀD of the full dictionary
+  const std::vector<Eigen::Index>& hidden_rows;
+  const Eigen::VectorXd& observed;      // the mask as 0/1
+  const Eigen::VectorXd& inverse_norms;
+  Eigen::MatrixXd cache;                // K × S
+  Eigen::VectorXd masked_atom;
+  int used = 0;
+  LazyMaskedGram(const Eigen::MatrixXd& d, const Eigen::MatrixXd& dt, const Eigen::MatrixXd& g,
+                 const std::vector<Eigen::Index>& hidden, const Eigen::VectorXd& m, const Eigen::VectorXd& s,
+                 int max_atoms)
+      : dictionary(d), dictionary_t(dt), gram(g), hidden_rows(hidden), observed(m), inverse_norms(s),
+        cache(d.cols(), max_atoms)
+  {
+  }
+  const double* column(int k)
+  {
+    auto out = cache.col(used);
+    if (2 * hidden_rows.size() < static_cast<std::size_t>(dictionary.rows())) {
+      out = gram.col(k);
+      for (const Eigen::Index r : hidden_rows)
+        out -= dictionary(r, k) * dictionary_t.col(r);
+    } else {
+      masked_atom = observed.cwiseProduct(dictionary.col(k));
+      out.noalias() = dictionary_t * masked_atom;
+    }
+    out = out.cwiseProduct(inverse_norms) * inverse_norms[k];
+    return cache.col(used++).data();
+  }
+};
+
+// Buffers of one thread, reused across signals: allocation would otherwise cost as much as the
+// arithmetic for small sparsities.
+struct Workspace {
+  Eigen::MatrixXd lower;          // Cholesky factor of G_II (S × S)
+  Eigen::MatrixXd gram_selected;  // G_{:,I} (K × S)
+  Eigen::VectorXd alpha, gamma, beta, rhs, w;
+  std::vector<char> selected;
+  void reserve(Eigen::Index num_atoms, int max_atoms)
+  {
+    if (lower.rows() < max_atoms)
+      lower.resize(max_atoms, max_atoms);
+    if (gram_selected.rows() != num_atoms || gram_selected.cols() < max_atoms)
+      gram_selected.resize(num_atoms, max_atoms);
+    if (selected.size() != static_cast<std::size_t>(num_atoms))
+      selected.assign(static_cast<std::size_t>(num_atoms), 0);
+    rhs.resize(max_atoms);
+  }
+};
+
+// The Batch-OMP iteration (Rubinstein et al. 2008, Algorithm 5), with error and sparsity stopping.
+// `usable` excludes atoms (masked atoms with no energy on the observed rows).
+template <typename Gram>
+void ompKernel(Gram& gram, const Eigen::Ref<const Eigen::VectorXd>& alpha0, double signal_squared_norm,
+               Eigen::Index entries, const SparseCodingParameters& parameters, const std::vector<char>* usable,
+               Workspace& work, std::vector<int>& atoms, std::vector<double>& coefficients)
+{
+  const int num_atoms = static_cast<int>(alpha0.size());
+  const int max_atoms = std::min(parameters.max_atoms, num_atoms);
+  atoms.clear();
+  coefficients.clear();
+  if (max_atoms <= 0)
+    return;
+  work.reserve(num_atoms, max_atoms);
+  const double budget = std::max(parameters.max_squared_error,
+                                 parameters.max_squared_error_per_entry * static_cast<double>(entries));
+  const bool error_stop = budget > 0.0;
+  auto& lower = work.lower;
+  auto& selected = work.selected;
+  work.alpha = alpha0;
+  double residual = signal_squared_norm, delta_previous = 0.0;
+  // Correlations this small are round-off of an already exact fit.
+  const double tiny = 1e-12 * std::sqrt(std::max(signal_squared_norm, 1e-300));
+
+  for (int n = 0; n < max_atoms; ++n) {
+    if (error_stop && residual <= budget)
+      break;
+    int best = -1;
+    double best_value = tiny;
+    for (int k = 0; k < num_atoms; ++k) {
+      if (selected[k] || (usable && !(*usable)[k]))
+        continue;
+      const double value = std::abs(work.alpha[k]);
+      if (value > best_value) {
+        best_value = value;
+        best = k;
+      }
+    }
+    if (best < 0)
+      break;
+    const double* column = gram.column(best);
+    if (n == 0) {
+      lower(0, 0) = std::sqrt(column[best]);
+    } else {
+      work.w.resize(n);
+      for (int i = 0; i < n; ++i)
+        work.w[i] = column[atoms[i]];
+      lower.topLeftCorner(n, n).triangularView<Eigen::Lower>().solveInPlace(work.w);
+      const double diagonal = column[best] - work.w.squaredNorm();
+      if (diagonal <= 1e-10)  // the atom is (numerically) in the span of those chosen: stop
+        break;
+      lower.row(n).head(n) = work.w.transpose();
+      lower(n, n) = std::sqrt(diagonal);
+    }
+    atoms.push_back(best);
+    selected[best] = 1;
+    work.gram_selected.col(n) = Eigen::Map<const Eigen::VectorXd>(column, num_atoms);
+    const int size = n + 1;
+    for (int i = 0; i < size; ++i)
+      work.rhs[i] = alpha0[atoms[i]];
+    work.gamma = work.rhs.head(size);
+    const auto factor = lower.topLeftCorner(size, size);
+    factor.triangularView<Eigen::Lower>().solveInPlace(work.gamma);
+    factor.transpose().triangularView<Eigen::Upper>().solveInPlace(work.gamma);
+    work.beta.noalias() = work.gram_selected.leftCols(size) * work.gamma;
+    work.alpha = alpha0 - work.beta;
+    if (error_stop) {
+      double delta = 0.0;
+      for (int i = 0; i < size; ++i)
+        delta += work.gamma[i] * work.beta[atoms[i]];
+      residual = residual - delta + delta_previous;
+      delta_previous = delta;
+    }
+  }
+  for (const int k : atoms)
+    selected[k] = 0;
+  coefficients.assign(work.gamma.data(), work.gamma.data() + std::min<Eigen::Index>(work.gamma.size(), static_cast<Eigen::Index>(atoms.size())));
+}
+
+void checkParameters(const SparseCodingParameters& parameters)
+{
+  if (parameters.max_atoms < 0)
+    throw Error("sparse coding: the number of atoms per signal must not be negative");
+  if (!(parameters.max_squared_error >= 0.0) || !(parameters.max_squared_error_per_entry >= 0.0))
+    throw Error("sparse coding: the error target must be a non-negative number");
+}
+
+SparseCodes assemble(Eigen::Index num_atoms, const std::vector<std::vector<int>>& atoms,
+                     const std::vector<std::vector<double>>& coefficients)
+{
+  std::size_t nonzeros = 0;
+  for (const auto& list : atoms)
+    nonzeros += list.size();
+  SparseCodes codes(num_atoms, static_cast<Eigen::Index>(atoms.size()));
+  codes.reserve(static_cast<Eigen::Index>(nonzeros));
+  for (std::size_t p = 0; p < atoms.size(); ++p) {
+    std::vector<int> order(atoms[p].size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return atoms[p][a] < atoms[p][b]; });
+    codes.startVec(static_cast<Eigen::Index>(p));
+    for (const int i : order)
+      codes.insertBack(atoms[p][i], static_cast<Eigen::Index>(p)) = coefficients[p][i];
+  }
+  codes.finalize();
+  return codes;
+}
+
+}  // namespace
+
+void batchOMPSingle(const Eigen::MatrixXd& gram, const Eigen::VectorXd& correlations, double signal_squared_norm,
+                    const SparseCodingParameters& parameters, std::vector<int>& atoms,
+                    std::vector<double>& coefficients)
+{
+  checkParameters(parameters);
+  FullGram access{gram};
+  Workspace work;
+  ompKernel(access, correlations, signal_squared_norm, 0, parameters, nullptr, work, atoms, coefficients);
+}
+
+SparseCodes batchOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& gram, const Eigen::MatrixXd& signals,
+                     const SparseCodingParameters& parameters)
+{
+  checkParameters(parameters);
+  if (signals.rows() != dictionary.rows())
+    throw Error("sparse coding: signals have " + std::to_string(signals.rows()) + " entries, atoms " +
+                std::to_string(dictionary.rows()));
+  if (gram.rows() != dictionary.cols() || gram.cols() != dictionary.cols())
+    throw Error("sparse coding: the Gram matrix does not match the dictionary");
+  const Eigen::Index count = signals.cols();
+  std::vector<std::vector<int>> atoms(static_cast<std::size_t>(count));
+  std::vector<std::vector<double>> coefficients(static_cast<std::size_t>(count));
+  // Correlations Dᵀx in blocks: one GEMM per block instead of one GEMV per signal.
+  constexpr Eigen::Index block = 1024;
+  Eigen::MatrixXd correlations;
+  for (Eigen::Index start = 0; start < count; start += block) {
+    const Eigen::Index size = std::min(block, count - start);
+    correlations.noalias() = dictionary.transpose() * signals.middleCols(start, size);
+#pragma omp parallel
+    {
+      Workspace work;
+      FullGram access{gram};
+#pragma omp for schedule(dynamic, 16)
+      for (Eigen::Index i = 0; i < size; ++i) {
+        const Eigen::Index p = start + i;
+        ompKernel(access, correlations.col(i), signals.col(p).squaredNorm(), signals.rows(), parameters, nullptr, work,
+                  atoms[static_cast<std::size_t>(p)], coefficients[static_cast<std::size_t>(p)]);
+      }
+    }
+  }
+  return assemble(dictionary.cols(), atoms, coefficients);
+}
+
+SparseCodes maskedOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& signals,
+                      const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>& mask,
+                      const SparseCodingParameters& parameters)
+{
+  checkParameters(parameters);
+  if (signals.rows() != dictionary.rows() || mask.rows() != signals.rows() || mask.cols() != signals.cols())
+    throw Error("masked sparse coding: signals, mask and dictionary sizes do not match");
+  const Eigen::Index count = signals.cols(), num_atoms = dictionary.cols(), n = dictionary.rows();
+  const int max_atoms = std::min<int>(parameters.max_atoms, static_cast<int>(num_atoms));
+  std::vector<std::vector<int>> atoms(static_cast<std::size_t>(count));
+  std::vector<std::vector<double>> coefficients(static_cast<std::size_t>(count));
+  const Eigen::MatrixXd dictionary_t = dictionary.transpose();
+
+  // Signals that share a mask with enough others share one normalised masked Gram matrix.
+  std::map<std::vector<bool>, std::vector<Eigen::Index>> groups;
+  for (Eigen::Index p = 0; p < count; ++p) {
+    std::vector<bool> key(static_cast<std::size_t>(n));
+    for (Eigen::Index r = 0; r < n; ++r)
+      key[static_cast<std::size_t>(r)] = mask(r, p);
+    groups[std::move(key)].push_back(p);
+  }
+  const auto shared_gram_threshold = static_cast<std::size_t>(std::max<Eigen::Index>(2, num_atoms / std::max(1, max_atoms)));
+  std::vector<const std::vector<Eigen::Index>*> shared_groups;
+  std::vector<Eigen::Index> singles;
+  for (const auto& [key, list] : groups) {
+    if (list.size() >= shared_gram_threshold)
+      shared_groups.push_back(&list);
+    else
+      singles.insert(singles.end(), list.begin(), list.end());
+  }
+  std::sort(singles.begin(), singles.end());
+
+  // Shared masks: gather the observed rows once per group.
+#pragma omp parallel
+  {
+    Workspace work;
+    Eigen::MatrixXd masked_t, gram;
+    Eigen::VectorXd observed, correlations, norms, inverse(num_atoms);
+    std::vector<char> usable;
+#pragma omp for schedule(dynamic, 1)
+    for (std::ptrdiff_t g = 0; g < static_cast<std::ptrdiff_t>(shared_groups.size()); ++g) {
+      const auto& list = *shared_groups[static_cast<std::size_t>(g)];
+      std::vector<Eigen::Index> rows;
+      for (Eigen::Index r = 0; r < n; ++r)
+        if (mask(r, list.front()))
+          rows.push_back(r);
+      if (rows.empty())
+        continue;  // nothing observed: the codes stay empty
+      const auto observed_count = static_cast<Eigen::Index>(rows.size());
+      masked_t.resize(num_atoms, observed_count);  // (M·D)ᵀ
+      for (Eigen::Index i = 0; i < observed_count; ++i)
+        masked_t.col(i) = dictionary_t.col(rows[i]);
+      // Column-normalise the masked atoms so that selection compares directions, not the energy
+      // each atom happens to keep on the observed rows.
+      norms = masked_t.rowwise().norm();
+      usable.assign(static_cast<std::size_t>(num_atoms), 1);
+      for (Eigen::Index k = 0; k < num_atoms; ++k) {
+        usable[static_cast<std::size_t>(k)] = norms[k] > 1e-8;
+        inverse[k] = norms[k] > 1e-8 ? 1.0 / norms[k] : 0.0;
+      }
+      gram.noalias() = masked_t * masked_t.transpose();
+      gram = inverse.asDiagonal() * gram * inverse.asDiagonal();
+      observed.resize(observed_count);
+      FullGram access{gram};
+      for (const Eigen::Index p : list) {
+        for (Eigen::Index i = 0; i < observed_count; ++i)
+          observed[i] = signals(rows[i], p);
+        correlations.noalias() = masked_t * observed;
+        correlations = correlations.cwiseProduct(inverse);
+        auto& chosen = atoms[static_cast<std::size_t>(p)];
+        auto& values = coefficients[static_cast<std::size_t>(p)];
+        ompKernel(access, correlations, observed.squaredNorm(), observed_count, parameters, &usable, work, chosen,
+                  values);
+        for (std::size_t i = 0; i < chosen.size(); ++i)  // back to the un-normalised atoms
+          values[i] *= inverse[chosen[i]];
+      }
+    }
+  }
+
+  // Masks of their own: correlations Dᵀ(m ⊙ x) and masked norms² (D ⊙ D)ᵀm for a block of signals
+  // by two GEMMs, then Gram columns on demand.
+  const Eigen::MatrixXd squared_t = dictionary_t.cwiseAbs2();
+  const Eigen::MatrixXd full_gram = singles.empty() ? Eigen::MatrixXd() : Eigen::MatrixXd(dictionary_t * dictionary);
+  constexpr std::size_t block = 1024;
+  Eigen::MatrixXd block_signals, block_masks, correlations, squared_norms;
+  for (std::size_t start = 0; start < singles.size(); start += block) {
+    const auto size = static_cast<Eigen::Index>(std::min(block, singles.size() - start));
+    block_signals.resize(n, size);
+    block_masks.resize(n, size);
+    for (Eigen::Index i = 0; i < size; ++i) {
+      const Eigen::Index p = singles[start + static_cast<std::size_t>(i)];
+      block_masks.col(i) = mask.col(p).cast<double>();
+      block_signals.col(i) = signals.col(p).cwiseProduct(block_masks.col(i));
+    }
+    correlations.noalias() = dictionary_t * block_signals;
+    squared_norms.noalias() = squared_t * block_masks;
+#pragma omp parallel
+    {
+      Workspace work;
+      Eigen::VectorXd inverse(num_atoms), observed, alpha0;
+      std::vector<char> usable(static_cast<std::size_t>(num_atoms));
+      std::vector<Eigen::Index> hidden;
+#pragma omp for schedule(dynamic, 16)
+      for (Eigen::Index i = 0; i < size; ++i) {
+        const Eigen::Index p = singles[start + static_cast<std::size_t>(i)];
+        for (Eigen::Index k = 0; k < num_atoms; ++k) {
+          const double norm = std::sqrt(std::max(squared_norms(k, i), 0.0));
+          usable[static_cast<std::size_t>(k)] = norm > 1e-8;
+          inverse[k] = norm > 1e-8 ? 1.0 / norm : 0.0;
+        }
+        observed = block_masks.col(i);
+        hidden.clear();
+        for (Eigen::Index r = 0; r < n; ++r)
+          if (observed[r] == 0.0)
+            hidden.push_back(r);
+        alpha0 = correlations.col(i).cwiseProduct(inverse);
+        LazyMaskedGram access(dictionary, dictionary_t, full_gram, hidden, observed, inverse, std::max(1, max_atoms));
+        auto& chosen = atoms[static_cast<std::size_t>(p)];
+        auto& values = coefficients[static_cast<std::size_t>(p)];
+        ompKernel(access, alpha0, block_signals.col(i).squaredNorm(), n - static_cast<Eigen::Index>(hidden.size()),
+                  parameters, &usable, work, chosen, values);
+        for (std::size_t j = 0; j < chosen.size(); ++j)
+          values[j] *= inverse[chosen[j]];
+      }
+    }
+  }
+  return assemble(num_atoms, atoms, coefficients);
+}
+
+}  // namespace patchdict
+}  // namespace pcl

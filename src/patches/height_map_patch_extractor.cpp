@@ -1,0 +1,315 @@
+#include <pcl_patchdict/core/error.h>
+#include <pcl_patchdict/patches/height_map_patch_extractor.h>
+#include <pcl_patchdict/pcl/reference_frame.h>
+
+#include "pcl/point_conversion.h"
+
+
+#include <pcl/kdtree/kdtree_flann.h>
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pcl {
+namespace patchdict {
+
+namespace {
+
+constexpr int kMaxGrid = 256;  // as the .pds / .pdd readers accept
+
+// Grid geometry of section 3.2: side √2·r, N bins per side, bin centres at (i + 0.5)·bin − side/2.
+struct Grid {
+  int size;
+  double radius;
+  double side;
+  double bin;
+  double half;
+  double centre(int index) const { return (index + 0.5) * bin - half; }
+};
+
+Grid makeGrid(int grid_size, double radius)
+{
+  Grid grid;
+  grid.size = grid_size;
+  grid.radius = radius;
+  grid.side = std::sqrt(2.0) * radius;
+  grid.bin = grid.side / grid_size;
+  grid.half = 0.5 * grid.side;
+  return grid;
+}
+
+// The kd-trees hold float coordinates; widening the query by a few float ulps of the coordinates
+// makes sure no point within the exact (double) radius is missed. The exact test follows.
+double floatSafeRadius(double radius, double coordinate_scale)
+{
+  return radius * (1.0 + 1e-5) + 1e-6 * coordinate_scale;
+}
+
+double coordinateScale(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& seeds)
+{
+  double scale = 1.0;
+  for (const auto& p : points)
+    scale = std::max(scale, p.cwiseAbs().maxCoeff());
+  for (const auto& s : seeds)
+    scale = std::max(scale, s.cwiseAbs().maxCoeff());
+  return scale;
+}
+
+int threadCount(int requested) { return requested > 0 ? requested : omp_get_max_threads(); }
+
+}  // namespace
+
+void HeightMapPatchExtractor::setSeeds(const std::vector<Eigen::Vector3d>& seeds,
+                                       const pcl::PointCloud<pcl::ReferenceFrame>& frames)
+{
+  seeds_ = seeds;
+  num_frames_ = frames.size();
+  rotations_.resize(frames.size());
+  for (std::size_t p = 0; p < frames.size(); ++p)
+    rotations_[p] = fromReferenceFrame(frames[p]);
+}
+
+void HeightMapPatchExtractor::setInputMesh(const TriangleMesh& mesh)
+{
+  surface_ = mesh;
+  mode_ = Mode::Mesh;
+}
+
+void HeightMapPatchExtractor::setInputCloud(const TriangleMesh& cloud_as_vertices)
+{
+  surface_.vertices = cloud_as_vertices.vertices;
+  surface_.faces.clear();
+  surface_.normals.clear();
+  mode_ = Mode::Cloud;
+}
+
+void HeightMapPatchExtractor::checkInput() const
+{
+  const std::string what = "height-map patches: ";
+  if (mode_ == Mode::None)
+    throw Error(what + "no input surface (call setInputMesh or setInputCloud)");
+  if (!(radius_ > 0.0) || !std::isfinite(radius_))
+    throw Error(what + "the radius must be positive and finite");
+  if (grid_size_ < 2 || grid_size_ > kMaxGrid)
+    throw Error(what + "the grid size must be in [2, " + std::to_string(kMaxGrid) + "], not " +
+                std::to_string(grid_size_));
+  if (num_frames_ != seeds_.size())
+    throw Error(what + std::to_string(seeds_.size()) + " seeds but " + std::to_string(num_frames_) + " frames");
+  for (std::size_t p = 0; p < seeds_.size(); ++p) {
+    if (!seeds_[p].allFinite() || !rotations_[p].allFinite())
+      throw Error(what + "seed or frame " + std::to_string(p) + " is not finite");
+    // Frames arrive as float[3] triplets: orthonormal to float precision is all we can ask; a
+    // left-handed frame would mirror its patch and confuse the dictionary, so it is a bug upstream.
+    const double deviation = (rotations_[p] * rotations_[p].transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+    if (deviation > 1e-4)
+      throw Error(what + "frame " + std::to_string(p) + " is not orthonormal (deviation " +
+                  std::to_string(deviation) + ")");
+    if (rotations_[p].determinant() < 0.0)
+      throw Error(what + "frame " + std::to_string(p) + " is left-handed");
+  }
+  if (surface_.vertices.empty())
+    throw Error(what + "the input surface has no points");
+  for (const auto& v : surface_.vertices)
+    if (!v.allFinite())
+      throw Error(what + "the input surface has non-finite coordinates");
+  if (mode_ == Mode::Mesh) {
+    if (surface_.faces.empty())
+      throw Error(what + "the input mesh has no faces (use setInputCloud for a point cloud)");
+    const auto count = static_cast<std::int32_t>(surface_.vertices.size());
+    for (const auto& face : surface_.faces)
+      for (const auto index : face)
+        if (index < 0 || index >= count)
+          throw Error(what + "a face refers to vertex " + std::to_string(index) + " of " + std::to_string(count));
+  }
+}
+
+void HeightMapPatchExtractor::compute(PatchSet& out) const
+{
+  checkInput();
+  const auto patches = static_cast<Eigen::Index>(seeds_.size());
+  const Eigen::Index bins = static_cast<Eigen::Index>(grid_size_) * grid_size_;
+  PatchSet result;
+  result.grid_size = grid_size_;
+  result.radius = radius_;
+  result.seeds = seeds_;
+  result.rotations = rotations_;
+  result.heights = Eigen::MatrixXd::Zero(bins, patches);
+  result.observed = ObservationMask::Constant(bins, patches, false);
+  result.source.assign(seeds_.size(), source_index_);
+  if (patches > 0) {
+    if (mode_ == Mode::Mesh)
+      computeMesh(result);
+    else
+      computeCloud(result);
+  }
+  out = std::move(result);
+}
+
+// Exact heights: rasterise, in the seed's frame, the XY projections of the triangles that can reach
+// the patch, sampling the barycentric interpolant at the bin centres (a ray along Z per bin centre,
+// done triangle by triangle).
+void HeightMapPatchExtractor::computeMesh(PatchSet& out) const
+{
+  const Grid grid = makeGrid(grid_size_, radius_);
+  const auto& vertices = surface_.vertices;
+  const auto& faces = surface_.faces;
+
+  pcl::PointCloud<pcl::PointXYZ>::Ptr centroids(new pcl::PointCloud<pcl::PointXYZ>);
+  centroids->resize(faces.size());
+  // Any point of a triangle is within `reach` of its centroid (convexity: the farthest point is a
+  // vertex). The circumradius would not do: for an obtuse triangle it can be smaller than that.
+  double reach = 0.0;
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const Eigen::Vector3d& a = vertices[faces[f][0]];
+    const Eigen::Vector3d& b = vertices[faces[f][1]];
+    const Eigen::Vector3d& c = vertices[faces[f][2]];
+    const Eigen::Vector3d centroid = (a + b + c) / 3.0;
+    (*centroids)[f] = detail::toPointXYZ(centroid);
+    reach = std::max({reach, (a - centroid).norm(), (b - centroid).norm(), (c - centroid).norm()});
+  }
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree(false);
+  tree.setInputCloud(centroids);
+  // A surface point counted by the patch is within r of the seed (the r-neighbourhood of section
+  // 3.1), so the triangle holding it has its centroid within r + reach.
+  const double query_radius = floatSafeRadius(radius_ + reach, coordinateScale(vertices, seeds_));
+  const double radius_squared = radius_ * radius_;
+  const int n = grid_size_;
+
+#pragma omp parallel num_threads(threadCount(threads_))
+  {
+    std::vector<int> neighbours;
+    std::vector<float> distances;
+    std::vector<double> best_abs(static_cast<std::size_t>(n) * n);
+    std::vector<int> best_face(static_cast<std::size_t>(n) * n);
+#pragma omp for schedule(dynamic, 8)
+    for (std::ptrdiff_t p = 0; p < static_cast<std::ptrdiff_t>(seeds_.size()); ++p) {
+      const Eigen::Vector3d& seed = seeds_[static_cast<std::size_t>(p)];
+      const Eigen::Matrix3d& rotation = rotations_[static_cast<std::size_t>(p)];
+      // The (unsorted) search order does not matter: a bin keeps the candidate nearest the plane,
+      // and of equal ones the lowest face index (rule below).
+      tree.radiusSearch(detail::toPointXYZ(seed), query_radius, neighbours, distances, 0);
+      std::fill(best_abs.begin(), best_abs.end(), std::numeric_limits<double>::infinity());
+      auto heights = out.heights.col(p);
+      auto observed = out.observed.col(p);
+      for (const int f : neighbours) {
+        const Face& face = faces[static_cast<std::size_t>(f)];
+        const Eigen::Vector3d a = rotation * (vertices[face[0]] - seed);
+        const Eigen::Vector3d b = rotation * (vertices[face[1]] - seed);
+        const Eigen::Vector3d c = rotation * (vertices[face[2]] - seed);
+        const double area2 = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+        const double scale = std::max({(b - a).head<2>().squaredNorm(), (c - a).head<2>().squaredNorm(),
+                                       (c - b).head<2>().squaredNorm()});
+        // A triangle seen edge-on projects to a segment: it covers no bin centre with a defined height.
+        if (!(std::abs(area2) > 1e-14 * scale))
+          continue;
+        const double min_x = std::min({a.x(), b.x(), c.x()}), max_x = std::max({a.x(), b.x(), c.x()});
+        const double min_y = std::min({a.y(), b.y(), c.y()}), max_y = std::max({a.y(), b.y(), c.y()});
+        // Candidate bins, one bin of slack each side for rounding; the barycentric test decides.
+        const int i0 = std::max(0, static_cast<int>(std::floor((min_x + grid.half) / grid.bin - 0.5)));
+        const int i1 = std::min(n - 1, static_cast<int>(std::ceil((max_x + grid.half) / grid.bin - 0.5)));
+        const int j0 = std::max(0, static_cast<int>(std::floor((min_y + grid.half) / grid.bin - 0.5)));
+        const int j1 = std::min(n - 1, static_cast<int>(std::ceil((max_y + grid.half) / grid.bin - 0.5)));
+        if (i0 > i1 || j0 > j1)
+          continue;
+        const double inverse_area2 = 1.0 / area2;
+        for (int j = j0; j <= j1; ++j) {
+          const double y = grid.centre(j);
+          for (int i = i0; i <= i1; ++i) {
+            const double x = grid.centre(i);
+            const double wa = ((b.x() - x) * (c.y() - y) - (b.y() - y) * (c.x() - x)) * inverse_area2;
+            const double wb = ((c.x() - x) * (a.y() - y) - (c.y() - y) * (a.x() - x)) * inverse_area2;
+            const double wc = 1.0 - wa - wb;
+            // Inclusive edges (with a rounding margin): a bin centre on an edge shared by two
+            // triangles must not fall through the crack between them.
+            constexpr double tolerance = 1e-12;
+            if (wa < -tolerance || wb < -tolerance || wc < -tolerance)
+              continue;
+            const double z = wa * a.z() + wb * b.z() + wc * c.z();
+            if (x * x + y * y + z * z > radius_squared)
+              continue;
+            const std::size_t k = static_cast<std::size_t>(j) * n + i;
+            // Folds (several sheets over one bin centre): keep the sheet closest to the patch plane.
+            // The height map can only hold the topological disk around the seed (section 3.3 of
+            // the paper); the sheet nearest the plane through the seed is the one that disk
+            // continues, the others (the far side of a thin part, an overhang) belong to other patches.
+            // Equal candidates (a shared edge) keep the lower face index, whatever the search order.
+            if (std::abs(z) < best_abs[k] || (std::abs(z) == best_abs[k] && f < best_face[k])) {
+              best_abs[k] = std::abs(z);
+              best_face[k] = f;
+              heights[static_cast<Eigen::Index>(k)] = z;
+              observed[static_cast<Eigen::Index>(k)] = true;
+            }
+          }
+        }
+      }
+    }
+  }
+}
+
+// Binning, as the paper does for points (section 3.2): the bin's value is the mean Z of the points
+// that fall in it. The mean rather than the median: it is the least-squares height of the bin, for
+// a locally linear surface sampled evenly it is the height at the samples' centroid, and it varies
+// continuously with the data; outliers and noise are the dictionary's job (sparse approximation),
+// not the sampler's.
+void HeightMapPatchExtractor::computeCloud(PatchSet& out) const
+{
+  const Grid grid = makeGrid(grid_size_, radius_);
+  const auto& points = surface_.vertices;
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree(false);
+  tree.setInputCloud(detail::toCloudXYZ(points));
+  const double query_radius = floatSafeRadius(radius_, coordinateScale(points, seeds_));
+  const double radius_squared = radius_ * radius_;
+  const int n = grid_size_;
+
+#pragma omp parallel num_threads(threadCount(threads_))
+  {
+    std::vector<int> neighbours;
+    std::vector<float> distances;
+    std::vector<double> sums(static_cast<std::size_t>(n) * n);
+    std::vector<int> counts(static_cast<std::size_t>(n) * n);
+#pragma omp for schedule(dynamic, 8)
+    for (std::ptrdiff_t p = 0; p < static_cast<std::ptrdiff_t>(seeds_.size()); ++p) {
+      const Eigen::Vector3d& seed = seeds_[static_cast<std::size_t>(p)];
+      const Eigen::Matrix3d& rotation = rotations_[static_cast<std::size_t>(p)];
+      tree.radiusSearch(detail::toPointXYZ(seed), query_radius, neighbours, distances);
+      // Summation in index order: bit-identical means whatever FLANN's order and the thread count.
+      std::sort(neighbours.begin(), neighbours.end());
+      std::fill(sums.begin(), sums.end(), 0.0);
+      std::fill(counts.begin(), counts.end(), 0);
+      for (const int index : neighbours) {
+        const Eigen::Vector3d local = rotation * (points[static_cast<std::size_t>(index)] - seed);
+        if (local.squaredNorm() > radius_squared)
+          continue;
+        const double u = std::floor((local.x() + grid.half) / grid.bin);
+        const double v = std::floor((local.y() + grid.half) / grid.bin);
+        if (u < 0.0 || v < 0.0 || u >= n || v >= n)
+          continue;
+        const std::size_t k = static_cast<std::size_t>(v) * n + static_cast<std::size_t>(u);
+        sums[k] += local.z();
+        ++counts[k];
+      }
+      for (std::size_t k = 0; k < sums.size(); ++k)
+        if (counts[k] > 0) {
+          out.heights(static_cast<Eigen::Index>(k), p) = sums[k] / counts[k];
+          out.observed(static_cast<Eigen::Index>(k), p) = true;
+        }
+    }
+  }
+}
+
+pcl::ReferenceFrame referenceFrameFromNormal(const Eigen::Vector3d& normal)
+{
+  const Eigen::Vector3d z = normal.normalized();
+  const Eigen::Vector3d x = z.unitOrthogonal(), y = z.cross(x);
+  Eigen::Matrix3d rows;
+  rows.row(0) = x;
+  rows.row(1) = y;
+  rows.row(2) = z;
+  return toReferenceFrame(rows);
+}
+
+}  // namespace patchdict
+}  // namespace pcl

@@ -1,0 +1,153 @@
+// OnlineDictionaryLearner state, PatchShuffleBuffer and the .pdk checkpoint: saving mid-stream and
+// continuing gives the same dictionary bit for bit; damaged files are refused; shards' statistics add.
+#include <pcl_patchdict/coding/dictionary_learning.h>
+#include <pcl_patchdict/core/error.h>
+#include <pcl_patchdict/coding/learning_checkpoint.h>
+#include <pcl_patchdict/coding/patch_shuffle_buffer.h>
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+using namespace pcl::patchdict;
+
+namespace {
+
+Eigen::MatrixXd randomSignals(int rows, int cols, std::uint64_t seed)
+{
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> gaussian;
+  Eigen::MatrixXd signals(rows, cols);
+  for (Eigen::Index i = 0; i < signals.size(); ++i)
+    signals.data()[i] = gaussian(rng);
+  return signals;
+}
+
+ObservationMask someHidden(int rows, int cols)
+{
+  ObservationMask mask = ObservationMask::Constant(rows, cols, true);
+  for (int p = 0; p < cols; p += 3)
+    mask(p % rows, p) = false;
+  return mask;
+}
+
+}  // namespace
+
+TEST(LearningCheckpoint, StoppedAndResumedStreamGivesTheSameDictionary)
+{
+  const OnlineLearningParameters parameters{10, 3, 16, 5};
+  std::vector<Eigen::MatrixXd> parts;
+  for (int i = 0; i < 5; ++i)
+    parts.push_back(randomSignals(25, 70 + 10 * i, 100 + static_cast<std::uint64_t>(i)));
+  const ObservationMask mask = someHidden(25, 90);
+
+  // Uninterrupted.
+  OnlineDictionaryLearner whole(parameters);
+  PatchShuffleBuffer whole_buffer(60, parameters.batch_size, parameters.seed);
+  for (const auto& part : parts)
+    whole_buffer.add(part, part.cols() == 90 ? mask : ObservationMask(), whole);
+  whole_buffer.flush(whole);
+  EXPECT_EQ(whole_buffer.highWater(), 60u);
+  EXPECT_EQ(whole.signalsSeen(), 450u);
+
+  // Stopped after three parts, saved as bytes, loaded into fresh objects, continued.
+  std::string bytes;
+  {
+    OnlineDictionaryLearner learner(parameters);
+    PatchShuffleBuffer buffer(60, parameters.batch_size, parameters.seed);
+    for (int i = 0; i < 3; ++i)
+      buffer.add(parts[static_cast<std::size_t>(i)], parts[static_cast<std::size_t>(i)].cols() == 90 ? mask : ObservationMask(), learner);
+    ASSERT_GT(buffer.size(), 0u);
+    LearningCheckpoint checkpoint;
+    checkpoint.settings = {{"atoms", "10"}};
+    checkpoint.next_input = 3;
+    checkpoint.num_inputs = 5;
+    checkpoint.learner = learner.state();
+    checkpoint.buffer = buffer.state();
+    bytes = checkpoint.toBytes();
+  }
+  const LearningCheckpoint loaded = LearningCheckpoint::fromBytes(bytes);
+  EXPECT_EQ(loaded.next_input, 3u);
+  ASSERT_EQ(loaded.settings.size(), 1u);
+  EXPECT_EQ(loaded.settings[0].second, "10");
+  OnlineDictionaryLearner learner(parameters);
+  PatchShuffleBuffer buffer(60, parameters.batch_size, parameters.seed);
+  learner.setState(loaded.learner);
+  buffer.setState(loaded.buffer);
+  for (int i = 3; i < 5; ++i)
+    buffer.add(parts[static_cast<std::size_t>(i)], parts[static_cast<std::size_t>(i)].cols() == 90 ? mask : ObservationMask(), learner);
+  buffer.flush(learner);
+  EXPECT_EQ(learner.signalsSeen(), whole.signalsSeen());
+  EXPECT_TRUE(learner.dictionary() == whole.dictionary());  // bit for bit, not approximately
+
+  // Parameters of another run are refused.
+  OnlineDictionaryLearner other({11, 3, 16, 5});
+  EXPECT_THROW(other.setState(loaded.learner), Error);
+  PatchShuffleBuffer small(10, parameters.batch_size, parameters.seed);
+  EXPECT_THROW(small.setState(loaded.buffer), Error);
+}
+
+TEST(LearningCheckpoint, DamagedFilesAreRefused)
+{
+  OnlineDictionaryLearner learner({6, 2, 8, 1});
+  learner.update(randomSignals(9, 20, 3));
+  LearningCheckpoint checkpoint;
+  checkpoint.num_inputs = 1;
+  checkpoint.learner = learner.state();
+  const std::string bytes = checkpoint.toBytes();
+  EXPECT_NO_THROW(LearningCheckpoint::fromBytes(bytes));
+  const auto refusal = [](const std::string& damaged) {
+    try {
+      LearningCheckpoint::fromBytes(damaged, "x.pdk");
+    } catch (const Error& error) {
+      return std::string(error.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(refusal(bytes.substr(0, bytes.size() - 9)).find("checksum"), std::string::npos);
+  EXPECT_NE(refusal("PCLPDD\0\x1a" + bytes.substr(8)).find("not a .pdk"), std::string::npos);
+  std::string flipped = bytes;
+  flipped[bytes.size() / 2] ^= 0x40;
+  EXPECT_NE(refusal(flipped).find("checksum"), std::string::npos);
+  std::string version = bytes;
+  version[8] = 9;
+  EXPECT_NE(refusal(version).find("version 9"), std::string::npos);
+  EXPECT_NE(refusal(bytes.substr(0, 10)).find("truncated"), std::string::npos);
+}
+
+TEST(LearningCheckpoint, ShardStatisticsAddUp)
+{
+  // Two machines start from the same state and code one shard each; the increments of A and B
+  // they report add up to those of one machine coding both shards as one mini-batch, and one atom
+  // update on the summed statistics gives that machine's dictionary (the README's reduction).
+  const OnlineLearningParameters parameters{8, 3, 40, 2};
+  OnlineDictionaryLearner common(parameters);
+  common.update(randomSignals(16, 40, 1));
+  const auto start = common.state();
+  const Eigen::MatrixXd shard_a = randomSignals(16, 40, 2), shard_b = randomSignals(16, 40, 3);
+  OnlineDictionaryLearner machine_a(parameters), machine_b(parameters), single(parameters);
+  machine_a.setState(start);
+  machine_b.setState(start);
+  single.setState(start);
+  machine_a.update(shard_a);
+  machine_b.update(shard_b);
+  Eigen::MatrixXd both(16, 80);
+  both << shard_a, shard_b;
+  single.update(both);
+  // Forgetting factor of the step after the first (t = 1) for η signals, as update() computes it.
+  const auto beta = [](double eta) {
+    const double t = 1.0;
+    const double theta = t < eta - 1.0 ? (t + 1.0) * eta : eta * eta + t + 1.0 - eta;
+    return (theta + 1.0 - eta) / (theta + 1.0);
+  };
+  auto merged = start;
+  merged.a = beta(80) * start.a + (machine_a.state().a - beta(40) * start.a) + (machine_b.state().a - beta(40) * start.a);
+  merged.b = beta(80) * start.b + (machine_a.state().b - beta(40) * start.b) + (machine_b.state().b - beta(40) * start.b);
+  EXPECT_LT((merged.a - single.state().a).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((merged.b - single.state().b).cwiseAbs().maxCoeff(), 1e-9);
+  OnlineDictionaryLearner reduced(parameters);
+  reduced.setState(merged);
+  reduced.updateAtoms();
+  EXPECT_LT((reduced.dictionary() - single.dictionary()).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_GT((reduced.dictionary() - start.dictionary).cwiseAbs().maxCoeff(), 1e-3);  // it did move
+}

@@ -1,0 +1,743 @@
+// Mesh I/O: exact round trips in every format, hand-written fixtures for the corners of each format,
+// one-line errors for bad input, and atomic writes.
+
+#include <pcl_patchdict/core/error.h>
+#include <pcl_patchdict/io/mesh_io.h>
+#include <pcl_patchdict/eval/shapes.h>
+
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+#include <set>
+#include <unordered_map>
+
+using pcl::patchdict::Error;
+using pcl::patchdict::Face;
+using pcl::patchdict::MeshFormat;
+using pcl::patchdict::ReadInfo;
+using pcl::patchdict::TriangleMesh;
+using pcl::patchdict::WriteOptions;
+using pcl::patchdict::readMesh;
+using pcl::patchdict::writeMesh;
+using test_support::TempDir;
+using test_support::readFile;
+using test_support::writeFile;
+
+namespace {
+
+// An icosphere whose normals are its (unit) positions: coordinates are genuine doubles.
+TriangleMesh doubleMesh()
+{
+  TriangleMesh mesh = pcl::patchdict::makeIcosphere(2, 1.0);
+  mesh.normals = mesh.vertices;
+  return mesh;
+}
+
+// Through a volatile float on purpose: GCC 12.2 at -O2/-O3 (SLP vectoriser) folds the pair
+// `a = (double)(float)x; b = (double)(float)y;` into a plain copy, leaving x and y unrounded.
+Eigen::Vector3d roundToFloat(const Eigen::Vector3d& p)
+{
+  Eigen::Vector3d out;
+  for (int k = 0; k < 3; ++k) {
+    volatile float narrow = static_cast<float>(p[k]);
+    out[k] = narrow;
+  }
+  return out;
+}
+
+TriangleMesh throughFloat(TriangleMesh mesh)
+{
+  for (auto* points : {&mesh.vertices, &mesh.normals})
+    for (Eigen::Vector3d& p : *points)
+      p = roundToFloat(p);
+  return mesh;
+}
+
+// Values that defeat fixed-precision printing: tiny, huge, subnormal, negative zero, many digits.
+TriangleMesh awkwardMesh()
+{
+  TriangleMesh mesh;
+  mesh.vertices = {{0.1, -0.0, 1e-300},
+                   {1e300, 4.9e-324, 123456789.123456789},
+                   {-2.0 / 3.0, std::nextafter(1.0, 2.0), 1.0 / 3.0},
+                   {3.0, 5e-8, -7.25}};
+  mesh.faces = {{0, 1, 2}, {0, 2, 3}};
+  return mesh;
+}
+
+void expectIdentical(const TriangleMesh& expected, const TriangleMesh& actual, bool compare_normals)
+{
+  ASSERT_EQ(expected.vertices.size(), actual.vertices.size());
+  ASSERT_EQ(expected.faces.size(), actual.faces.size());
+  for (std::size_t i = 0; i < expected.vertices.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      ASSERT_EQ(expected.vertices[i][k], actual.vertices[i][k]) << "vertex " << i << " coordinate " << k;
+      ASSERT_EQ(std::signbit(expected.vertices[i][k]), std::signbit(actual.vertices[i][k])) << "vertex " << i;
+    }
+  for (std::size_t f = 0; f < expected.faces.size(); ++f)
+    ASSERT_EQ(expected.faces[f], actual.faces[f]) << "face " << f;
+  if (compare_normals) {
+    ASSERT_TRUE(actual.hasNormals());
+    for (std::size_t i = 0; i < expected.normals.size(); ++i)
+      ASSERT_EQ(expected.normals[i], actual.normals[i]) << "normal " << i;
+  }
+}
+
+// STL keeps no vertex list: vertices come back in order of first use by the faces.
+TriangleMesh renumberByFirstUse(const TriangleMesh& mesh)
+{
+  TriangleMesh out;
+  std::unordered_map<std::int32_t, std::int32_t> new_index;
+  for (const Face& face : mesh.faces) {
+    Face renumbered;
+    for (int c = 0; c < 3; ++c) {
+      auto it = new_index.find(face[c]);
+      if (it == new_index.end()) {
+        it = new_index.emplace(face[c], static_cast<std::int32_t>(out.vertices.size())).first;
+        out.vertices.push_back(mesh.vertices[face[c]]);
+      }
+      renumbered[c] = it->second;
+    }
+    out.faces.push_back(renumbered);
+  }
+  return out;
+}
+
+TriangleMesh roundTrip(const TriangleMesh& mesh, const std::string& name, const WriteOptions& options = {},
+                       ReadInfo* info = nullptr)
+{
+  TempDir dir;
+  writeMesh(dir.file(name), mesh, options);
+  TriangleMesh back;
+  readMesh(dir.file(name), back, info);
+  return back;
+}
+
+std::set<std::string> listDirectory(const std::string& path)
+{
+  std::set<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(path))
+    names.insert(entry.path().filename().string());
+  return names;
+}
+
+void expectOneLineMessage(const std::string& message, const std::string& path)
+{
+  EXPECT_FALSE(message.empty());
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  EXPECT_NE(message.find(path), std::string::npos) << "message does not name the file: " << message;
+}
+
+// Reads `path`, which must fail with a one-line Error naming the file (and `mention`, if given).
+void expectReadError(const std::string& path, const std::string& mention = "")
+{
+  TriangleMesh mesh;
+  EXPECT_THROW(readMesh(path, mesh), Error) << path;
+  try {
+    readMesh(path, mesh);
+  }
+  catch (const Error& e) {
+    expectOneLineMessage(e.what(), path);
+    EXPECT_NE(std::string(e.what()).find(mention), std::string::npos)
+        << "expected '" << mention << "' in: " << e.what();
+  }
+}
+
+// Writes `text` as a file called `name` in `dir` and expects reading it to fail.
+void expectFixtureError(const TempDir& dir, const std::string& name, const std::string& text,
+                        const std::string& mention = "")
+{
+  writeFile(dir.file(name), text);
+  SCOPED_TRACE(name + ":\n" + text.substr(0, 300));
+  expectReadError(dir.file(name), mention);
+}
+
+TriangleMesh readFixture(const TempDir& dir, const std::string& name, const std::string& text,
+                         ReadInfo* info = nullptr)
+{
+  writeFile(dir.file(name), text);
+  TriangleMesh mesh;
+  readMesh(dir.file(name), mesh, info);
+  return mesh;
+}
+
+// Binary fixture builder with a chosen byte order.
+class Bytes {
+public:
+  explicit Bytes(bool big_endian) : big_endian_(big_endian) {}
+  Bytes& text(const std::string& s) { data += s; return *this; }
+  template <typename T>
+  Bytes& put(T value)
+  {
+    unsigned char raw[sizeof(T)];
+    std::memcpy(raw, &value, sizeof(T));
+    const std::uint16_t probe = 1;
+    const bool host_little = *reinterpret_cast<const unsigned char*>(&probe) == 1;
+    if (host_little == big_endian_)
+      std::reverse(raw, raw + sizeof(T));
+    data.append(reinterpret_cast<const char*>(raw), sizeof(T));
+    return *this;
+  }
+  std::string data;
+
+private:
+  bool big_endian_;
+};
+
+}  // namespace
+
+// ---------------------------------------------------------------- formats and the bundled mesh
+
+TEST(MeshIOFormat, ExtensionsAndNames)
+{
+  EXPECT_EQ(pcl::patchdict::formatFromPath("a/b/mesh.PLY"), MeshFormat::PLY);
+  EXPECT_EQ(pcl::patchdict::formatFromPath("x.obj"), MeshFormat::OBJ);
+  EXPECT_EQ(pcl::patchdict::formatFromPath("x.Off"), MeshFormat::OFF);
+  EXPECT_EQ(pcl::patchdict::formatFromPath("x.stl"), MeshFormat::STL);
+  EXPECT_EQ(pcl::patchdict::formatFromPath("cloud.pcd"), MeshFormat::PCD);
+  EXPECT_EQ(pcl::patchdict::formatFromPath("x.xyz"), MeshFormat::Unknown);
+  EXPECT_EQ(pcl::patchdict::formatFromPath("ply"), MeshFormat::Unknown);
+  EXPECT_EQ(pcl::patchdict::formatName(MeshFormat::OFF), "off");
+  EXPECT_EQ(pcl::patchdict::formatName(MeshFormat::PCD), "pcd");
+}
+
+TEST(MeshIOBunny, LoadsWithExactCounts)
+{
+  const std::string path = test_support::dataDir() + "/bunny.obj";
+  const std::string before = readFile(path);
+  TriangleMesh mesh;
+  ReadInfo info;
+  const auto start = std::chrono::steady_clock::now();
+  readMesh(path, mesh, &info);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << "[ timing   ] bunny.obj loaded in " << seconds * 1000.0 << " ms\n";
+  RecordProperty("bunny_load_ms", static_cast<int>(seconds * 1000.0));
+  EXPECT_EQ(mesh.numVertices(), 35947u);
+  EXPECT_EQ(mesh.numFaces(), 69451u);
+  EXPECT_EQ(info.format, MeshFormat::OBJ);
+  EXPECT_FALSE(info.binary);
+  EXPECT_EQ(info.polygons_triangulated, 0u);
+  EXPECT_FALSE(mesh.hasNormals());
+  EXPECT_EQ(mesh.vertices[0], Eigen::Vector3d(-0.037830, 0.127940, 0.004475));
+  EXPECT_EQ(readFile(path), before);  // reading never touches the input
+}
+
+// ---------------------------------------------------------------- round trips
+
+TEST(MeshIOPly, BinaryRoundTripIsExactForDoubles)
+{
+  const TriangleMesh mesh = doubleMesh();
+  TempDir dir;
+  writeMesh(dir.file("m.ply"), mesh);
+  const std::string bytes = readFile(dir.file("m.ply"));
+  EXPECT_NE(bytes.find("format binary_little_endian 1.0"), std::string::npos);
+  EXPECT_NE(bytes.find("property double x"), std::string::npos);
+  TriangleMesh back;
+  ReadInfo info;
+  readMesh(dir.file("m.ply"), back, &info);
+  EXPECT_EQ(info.format, MeshFormat::PLY);
+  EXPECT_TRUE(info.binary);
+  expectIdentical(mesh, back, true);
+  expectIdentical(awkwardMesh(), roundTrip(awkwardMesh(), "a.ply"), false);
+}
+
+TEST(MeshIOPly, BinaryRoundTripOfFloatDataUsesFloat32)
+{
+  const TriangleMesh mesh = throughFloat(doubleMesh());
+  TempDir dir;
+  writeMesh(dir.file("m.ply"), mesh);
+  const std::string bytes = readFile(dir.file("m.ply"));
+  EXPECT_NE(bytes.find("property float x"), std::string::npos);
+  EXPECT_NE(bytes.find("property float nx"), std::string::npos);
+  const std::size_t header_end = bytes.find("end_header\n") + 11;
+  EXPECT_EQ(bytes.size() - header_end, mesh.numVertices() * 24 + mesh.numFaces() * 13);
+  TriangleMesh back;
+  readMesh(dir.file("m.ply"), back);
+  expectIdentical(mesh, back, true);
+}
+
+TEST(MeshIOPly, AsciiRoundTripIsExact)
+{
+  WriteOptions ascii;
+  ascii.binary = false;
+  ReadInfo info;
+  expectIdentical(doubleMesh(), roundTrip(doubleMesh(), "m.ply", ascii, &info), true);
+  EXPECT_FALSE(info.binary);
+  const TriangleMesh floats = throughFloat(doubleMesh());
+  expectIdentical(floats, roundTrip(floats, "f.ply", ascii), true);
+  expectIdentical(awkwardMesh(), roundTrip(awkwardMesh(), "a.ply", ascii), false);
+}
+
+TEST(MeshIOPly, NormalsAreOptional)
+{
+  WriteOptions no_normals;
+  no_normals.write_normals = false;
+  const TriangleMesh back = roundTrip(doubleMesh(), "m.ply", no_normals);
+  EXPECT_FALSE(back.hasNormals());
+  EXPECT_EQ(back.numVertices(), doubleMesh().numVertices());
+}
+
+TEST(MeshIOPly, CloudWithoutFacesRoundTrips)
+{
+  TriangleMesh cloud = doubleMesh();
+  cloud.faces.clear();
+  const TriangleMesh back = roundTrip(cloud, "cloud.ply");
+  expectIdentical(cloud, back, true);
+}
+
+TEST(MeshIOObj, RoundTripIsExactWithNormals)
+{
+  expectIdentical(doubleMesh(), roundTrip(doubleMesh(), "m.obj"), true);
+  expectIdentical(awkwardMesh(), roundTrip(awkwardMesh(), "a.obj"), false);
+  TriangleMesh cloud = doubleMesh();
+  cloud.faces.clear();
+  expectIdentical(cloud, roundTrip(cloud, "cloud.obj"), true);
+}
+
+TEST(MeshIOOff, RoundTripIsExact)
+{
+  TriangleMesh mesh = doubleMesh();
+  mesh.normals.clear();
+  ReadInfo info;
+  expectIdentical(mesh, roundTrip(mesh, "m.off", {}, &info), false);
+  EXPECT_EQ(info.format, MeshFormat::OFF);
+  expectIdentical(awkwardMesh(), roundTrip(awkwardMesh(), "a.off"), false);
+}
+
+TEST(MeshIOStl, BinaryRoundTripIsExactForFloatData)
+{
+  TriangleMesh mesh = throughFloat(pcl::patchdict::makeTorus(24, 12));
+  ReadInfo info;
+  const TriangleMesh back = roundTrip(mesh, "m.stl", {}, &info);
+  EXPECT_TRUE(info.binary);
+  EXPECT_EQ(back.numVertices(), mesh.numVertices());  // shared corners merged back
+  expectIdentical(renumberByFirstUse(mesh), back, false);
+}
+
+TEST(MeshIOStl, AsciiRoundTripIsExactForDoubles)
+{
+  WriteOptions ascii;
+  ascii.binary = false;
+  const TriangleMesh mesh = pcl::patchdict::makeTorus(24, 12);
+  ReadInfo info;
+  const TriangleMesh back = roundTrip(mesh, "m.stl", ascii, &info);
+  EXPECT_FALSE(info.binary);
+  expectIdentical(renumberByFirstUse(mesh), back, false);
+}
+
+TEST(MeshIOPcd, BinaryAndAsciiRoundTripsAreExactForFloatData)
+{
+  const TriangleMesh mesh = throughFloat(doubleMesh());
+  TriangleMesh cloud = mesh;
+  cloud.faces.clear();  // PCD keeps points only
+  for (const bool binary : {true, false}) {
+    WriteOptions options;
+    options.binary = binary;
+    ReadInfo info;
+    const TriangleMesh back = roundTrip(mesh, "m.pcd", options, &info);
+    EXPECT_EQ(info.format, MeshFormat::PCD);
+    EXPECT_EQ(info.binary, binary);
+    EXPECT_EQ(info.points_dropped, 0u);
+    expectIdentical(cloud, back, true);
+  }
+}
+
+TEST(MeshIOPcd, StoresFloat32AndDropsNaNPoints)
+{
+  TempDir dir;
+  const std::string text =
+      "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 4\nHEIGHT 1\n"
+      "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 4\nDATA ascii\n1 2 3\nnan nan nan\n4 5 6\n7 nan 9\n";
+  ReadInfo info;
+  const TriangleMesh cloud = readFixture(dir, "c.pcd", text, &info);
+  ASSERT_EQ(cloud.numVertices(), 2u);
+  EXPECT_EQ(info.points_dropped, 2u);
+  EXPECT_FALSE(info.binary);
+  EXPECT_EQ(cloud.vertices[1], Eigen::Vector3d(4, 5, 6));
+  // A double coordinate comes back rounded to float32 (documented: PCD is float32).
+  TriangleMesh point;
+  point.vertices = {{0.1, 0.2, 0.3}};
+  const TriangleMesh back = roundTrip(point, "p.pcd");
+  EXPECT_EQ(back.vertices[0], roundToFloat(point.vertices[0]));
+}
+
+// ---------------------------------------------------------------- hand-written fixtures
+
+TEST(MeshIOObj, AllFaceFormsNegativeIndicesAndPolygons)
+{
+  TempDir dir;
+  const std::string text =
+      "# comment\nmtllib thing.mtl\no thing\n"
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 1.5 0 1\n"
+      "vt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\n"
+      "g group\nusemtl red\ns 1\n"
+      "f 1 2 3\n"
+      "f 1/1 3/3 4/2\n"
+      "f 1//1 2//1 3//1\r\n"
+      "f 1/1/1 2/2/1 3/3/1 # trailing comment\n"
+      "f -5 -4 -3\n"
+      "f 1 2 3 4\n"
+      "\tf  1 2 3 5 4\n"
+      "l 1 2\n";
+  ReadInfo info;
+  const TriangleMesh mesh = readFixture(dir, "fixture.obj", text, &info);
+  ASSERT_EQ(mesh.numVertices(), 5u);
+  ASSERT_EQ(mesh.numFaces(), 10u);
+  EXPECT_EQ(info.polygons_triangulated, 2u);
+  EXPECT_EQ(info.lines_ignored, 9u);  // mtllib o vt vt vt g usemtl s l
+  EXPECT_EQ(mesh.faces[1], (Face{0, 2, 3}));
+  EXPECT_EQ(mesh.faces[4], (Face{0, 1, 2}));  // negative indices
+  EXPECT_EQ(mesh.faces[5], (Face{0, 1, 2}));
+  EXPECT_EQ(mesh.faces[6], (Face{0, 2, 3}));
+  EXPECT_EQ(mesh.faces[9], (Face{0, 4, 3}));
+  EXPECT_EQ(mesh.vertices[4], Eigen::Vector3d(0.5, 1.5, 0));
+  EXPECT_FALSE(mesh.hasNormals());  // only 3 of 5 vertices have one: no partial normals
+}
+
+TEST(MeshIOObj, PerCornerNormalsBecomeVertexNormals)
+{
+  TempDir dir;
+  const std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 -1\nvn 0 0 1\nf 1//2 2//2 3//1\n";
+  const TriangleMesh mesh = readFixture(dir, "n.obj", text);
+  ASSERT_TRUE(mesh.hasNormals());
+  EXPECT_EQ(mesh.normals[0], Eigen::Vector3d(0, 0, 1));
+  EXPECT_EQ(mesh.normals[2], Eigen::Vector3d(0, 0, -1));
+}
+
+TEST(MeshIOPly, BigEndianWithExtraPropertiesAndElements)
+{
+  Bytes ply(true);
+  ply.text("ply\nformat binary_big_endian 1.0\ncomment made by hand\nobj_info nothing\n"
+           "element material 2\nproperty list ushort float stuff\nproperty uchar flag\n"
+           "element vertex 4\nproperty double x\nproperty float y\nproperty int z\nproperty uchar red\n"
+           "element face 2\nproperty uchar flags\nproperty list uchar int vertex_indices\n"
+           "element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n");
+  ply.put<std::uint16_t>(2).put<float>(1.5f).put<float>(2.5f).put<std::uint8_t>(7);
+  ply.put<std::uint16_t>(0).put<std::uint8_t>(9);
+  const double xs[4] = {0.1, 1.0, 1.0, 0.0};
+  const float ys[4] = {0.0f, 0.0f, 1.0f, 1.0f};
+  for (int i = 0; i < 4; ++i)
+    ply.put<double>(xs[i]).put<float>(ys[i]).put<std::int32_t>(-i).put<std::uint8_t>(255);
+  ply.put<std::uint8_t>(1).put<std::uint8_t>(3).put<std::int32_t>(0).put<std::int32_t>(1).put<std::int32_t>(2);
+  ply.put<std::uint8_t>(0).put<std::uint8_t>(4);
+  for (const std::int32_t v : {0, 1, 2, 3})
+    ply.put<std::int32_t>(v);
+  ply.put<std::int32_t>(0).put<std::int32_t>(1);
+
+  TempDir dir;
+  writeFile(dir.file("be.ply"), ply.data);
+  TriangleMesh mesh;
+  ReadInfo info;
+  readMesh(dir.file("be.ply"), mesh, &info);
+  EXPECT_TRUE(info.binary);
+  ASSERT_EQ(mesh.numVertices(), 4u);
+  ASSERT_EQ(mesh.numFaces(), 3u);
+  EXPECT_EQ(info.polygons_triangulated, 1u);
+  EXPECT_EQ(mesh.vertices[0], Eigen::Vector3d(0.1, 0.0, 0.0));
+  EXPECT_EQ(mesh.vertices[3], Eigen::Vector3d(0.0, 1.0, -3.0));
+  EXPECT_EQ(mesh.faces[0], (Face{0, 1, 2}));
+  EXPECT_EQ(mesh.faces[2], (Face{0, 2, 3}));
+  // The same file cut short anywhere must fail cleanly.
+  for (std::size_t length = 1; length < ply.data.size(); ++length) {
+    writeFile(dir.file("cut.ply"), ply.data.substr(0, length));
+    TriangleMesh cut;
+    EXPECT_THROW(readMesh(dir.file("cut.ply"), cut), Error) << "length " << length;
+  }
+}
+
+TEST(MeshIOPly, AsciiWithVertexIndexNameAndNormals)
+{
+  TempDir dir;
+  const std::string text = "ply\r\nformat ascii 1.0\r\ncomment hi\r\nelement vertex 3\r\nproperty float x\r\n"
+                           "property float y\r\nproperty float z\r\nproperty float nx\r\nproperty float ny\r\n"
+                           "property float nz\r\nelement face 1\r\nproperty list uint8 uint32 vertex_index\r\n"
+                           "end_header\r\n0.1 0 0 0 0 1\r\n1 0 0 0 0 1\r\n0 1e0 +0 0 0 1\r\n3 0 1 2\r\n";
+  ReadInfo info;
+  const TriangleMesh mesh = readFixture(dir, "vi.ply", text, &info);
+  EXPECT_FALSE(info.binary);
+  ASSERT_EQ(mesh.numFaces(), 1u);
+  EXPECT_EQ(mesh.faces[0], (Face{0, 1, 2}));
+  // A float property holds the float nearest to the decimal text.
+  EXPECT_EQ(mesh.vertices[0].x(), static_cast<double>(0.1f));
+  ASSERT_TRUE(mesh.hasNormals());
+  EXPECT_EQ(mesh.normals[2], Eigen::Vector3d(0, 0, 1));
+}
+
+TEST(MeshIOOff, CommentsQuadsColoursAndNormals)
+{
+  TempDir dir;
+  const std::string text = "OFF\n# a comment\n\n4 1 0   # counts\n0 0 0\n1 0 0 # corner\n1 1 0\n0 1 0\n"
+                           "4 0 1 2 3 255 0 0\n";
+  ReadInfo info;
+  TriangleMesh mesh = readFixture(dir, "q.off", text, &info);
+  ASSERT_EQ(mesh.numFaces(), 2u);
+  EXPECT_EQ(info.polygons_triangulated, 1u);
+  EXPECT_EQ(mesh.faces[1], (Face{0, 2, 3}));
+
+  mesh = readFixture(dir, "c.off", "COFF 3 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n0 1 0 0 0 255 255\n3 0 1 2\n");
+  EXPECT_EQ(mesh.numVertices(), 3u);
+  EXPECT_EQ(mesh.vertices[1], Eigen::Vector3d(1, 0, 0));
+
+  mesh = readFixture(dir, "n.off", "NOFF\n3 1 3\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n");
+  ASSERT_TRUE(mesh.hasNormals());
+  EXPECT_EQ(mesh.normals[1], Eigen::Vector3d(0, 0, 1));
+}
+
+TEST(MeshIOStl, AsciiFixtureMergesSharedCorners)
+{
+  TempDir dir;
+  const std::string text = "solid square\n"
+                           " facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 1 1 0\n"
+                           "  endloop\n endfacet\n"
+                           " facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 1 0\n   vertex 0 1 0\n"
+                           "  endloop\n endfacet\nendsolid square\n";
+  ReadInfo info;
+  const TriangleMesh mesh = readFixture(dir, "s.stl", text, &info);
+  EXPECT_FALSE(info.binary);
+  ASSERT_EQ(mesh.numVertices(), 4u);
+  ASSERT_EQ(mesh.numFaces(), 2u);
+  EXPECT_EQ(mesh.faces[1], (Face{0, 2, 3}));
+}
+
+TEST(MeshIOStl, BinaryFixtureWhoseHeaderStartsWithSolid)
+{
+  Bytes stl(false);
+  std::string header = "solid but binary facet";
+  header.resize(80, ' ');
+  stl.text(header).put<std::uint32_t>(2);
+  const float triangles[2][9] = {{0, 0, 0, 1, 0, 0, 1, 1, 0}, {0, 0, 0, 1, 1, 0, 0, 1, 0}};
+  for (const auto& triangle : triangles) {
+    stl.put<float>(0).put<float>(0).put<float>(1);
+    for (const float value : triangle)
+      stl.put<float>(value);
+    stl.put<std::uint16_t>(0);
+  }
+  TempDir dir;
+  ReadInfo info;
+  const TriangleMesh mesh = readFixture(dir, "b.stl", stl.data, &info);
+  EXPECT_TRUE(info.binary);
+  ASSERT_EQ(mesh.numVertices(), 4u);
+  EXPECT_EQ(mesh.faces[1], (Face{0, 2, 3}));
+  expectFixtureError(dir, "short.stl", stl.data.substr(0, stl.data.size() - 1), "truncated");
+}
+
+// ---------------------------------------------------------------- bad input
+
+TEST(MeshIOErrors, MissingEmptyDirectoryAndUnknownExtension)
+{
+  TempDir dir;
+  expectReadError(dir.file("missing.ply"), "no such file");
+  std::filesystem::create_directory(dir.file("folder.obj"));
+  expectReadError(dir.file("folder.obj"), "directory");
+  for (const char* name : {"e.ply", "e.obj", "e.off", "e.stl", "e.pcd"})
+    expectFixtureError(dir, name, "", "empty");
+  expectFixtureError(dir, "mesh.xyz", "v 0 0 0\n", "extension");
+  expectFixtureError(dir, "nothing.obj", "# only a comment\n", "no vertices");
+}
+
+TEST(MeshIOErrors, TruncatedAndHugeDeclaredCounts)
+{
+  TempDir dir;
+  const TriangleMesh mesh = doubleMesh();
+  writeMesh(dir.file("good.ply"), mesh);
+  const std::string bytes = readFile(dir.file("good.ply"));
+  expectFixtureError(dir, "t1.ply", bytes.substr(0, bytes.size() - 1), "truncated");
+  expectFixtureError(dir, "t2.ply", bytes.substr(0, bytes.size() / 2), "truncated");
+
+  const auto start = std::chrono::steady_clock::now();
+  const std::string body(30, '\0');
+  for (const char* count : {"1000000000000", "100000000", "2000000000"}) {
+    const std::string header = std::string("ply\nformat binary_little_endian 1.0\nelement vertex ") + count +
+                               "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+    expectFixtureError(dir, "huge.ply", header + body);
+    expectFixtureError(dir, "huge_ascii.ply",
+                       std::string("ply\nformat ascii 1.0\nelement vertex ") + count +
+                           "\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n");
+  }
+  expectFixtureError(dir, "huge_faces.ply",
+                     "ply\nformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\nproperty float y\n"
+                     "property float z\nelement face 900000000\nproperty list uchar int vertex_indices\nend_header\n" +
+                         body,
+                     "truncated");
+  expectFixtureError(dir, "huge.off", "OFF\n100000000 100000000 0\n0 0 0\n", "truncated");
+  Bytes stl(false);
+  stl.text(std::string(80, ' ')).put<std::uint32_t>(4000000000u).text(std::string(50, '\0'));
+  expectFixtureError(dir, "huge.stl", stl.data, "truncated");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(seconds, 2.0);  // rejected from the header, without allocating or scanning
+}
+
+TEST(MeshIOErrors, GarbageHeadersAndLinesNameTheLine)
+{
+  TempDir dir;
+  expectFixtureError(dir, "g1.obj", "v 0 0 0\nv 1 0 0\nv 1 2\nf 1 2 3\n", "line 3");
+  expectFixtureError(dir, "g2.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 x 3\n", "line 4");
+  expectFixtureError(dir, "g3.obj", "v 0 0 0\nv1 1 0 0\n", "line 2");
+  expectFixtureError(dir, "g4.obj", "v 0 0 0\n1 2 3\n", "line 2");
+  expectFixtureError(dir, "g5.obj", "v 0 0 0\nv 1 0 abc\n", "line 2");
+  expectFixtureError(dir, "g6.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/2/3/4 2 3\n", "line 4");
+  expectFixtureError(dir, "g1.ply", "ply\nformat ascii 1.0\nelement vertex 1\nbogus line\nend_header\n0 0 0\n",
+                     "line 4");
+  expectFixtureError(dir, "g2.ply", "PLY?\nformat ascii 1.0\n", "not a PLY");
+  expectFixtureError(dir, "g3.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n", "end_header");
+  expectFixtureError(dir, "g4.ply",
+                     "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                     "property float z\nend_header\n0 zero 0\n",
+                     "line 8");
+  expectFixtureError(dir, "g5.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n",
+                     "'y'");
+  expectFixtureError(dir, "g1.off", "OFX\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "not an OFF");
+  expectFixtureError(dir, "g2.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1\n3 0 1 2\n", "line 5");
+  expectFixtureError(dir, "g1.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n", "truncated");
+  expectFixtureError(dir, "g2.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvortex 1 0 0\n", "line 5");
+  expectFixtureError(dir, "g1.pcd", "# .PCD v0.7\nFIELDS x y z\nthis is not a pcd\n", "line 3");
+  expectFixtureError(dir, "g2.pcd", "garbage\n");  // crashes PCL's reader if handed over unchecked
+  const std::string pcd_head = "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+                               "WIDTH 2\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\n";
+  expectFixtureError(dir, "g3.pcd", pcd_head + "1 2 3\n4 abc 6\n", "line 13");  // PCL alone reads 0
+  expectFixtureError(dir, "g4.pcd", pcd_head + "1 2 3\n4 5\n", "line 13");
+  expectFixtureError(dir, "g5.pcd", pcd_head + "1 2 3\n", "truncated");
+}
+
+TEST(MeshIOErrors, FaceIndicesOutOfRange)
+{
+  TempDir dir;
+  const std::string three = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  expectFixtureError(dir, "zero.obj", three + "f 0 1 2\n", "line 4");
+  expectFixtureError(dir, "large.obj", three + "f 1 2 4\n", "out of range");
+  expectFixtureError(dir, "negative.obj", three + "f -1 -2 -4\n", "line 4");
+  expectFixtureError(dir, "normal.obj", three + "vn 0 0 1\nf 1//1 2//2 3//1\n", "normal");
+  const std::string ply_head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                               "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                               "end_header\n0 0 0\n1 0 0\n0 1 0\n";
+  expectFixtureError(dir, "large.ply", ply_head + "3 0 1 3\n", "out of range");
+  expectFixtureError(dir, "negative.ply", ply_head + "3 0 -1 2\n", "out of range");
+  Bytes binary(false);
+  binary.text("ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+              "property float z\nelement face 1\nproperty list uchar uint vertex_indices\nend_header\n");
+  for (int i = 0; i < 9; ++i)
+    binary.put<float>(0.0f);
+  binary.put<std::uint8_t>(3).put<std::uint32_t>(0).put<std::uint32_t>(1).put<std::uint32_t>(4000000000u);
+  expectFixtureError(dir, "large_binary.ply", binary.data, "out of range");
+  expectFixtureError(dir, "large.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", "line 6");
+}
+
+TEST(MeshIOErrors, NonFiniteCoordinatesAndShortFaces)
+{
+  TempDir dir;
+  expectFixtureError(dir, "nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\n", "vertex 1 has a non-finite");
+  expectFixtureError(dir, "inf.off", "OFF\n3 0 0\n0 0 0\n1 inf 0\n0 1 0\n", "non-finite");
+  expectFixtureError(dir, "nan.ply",
+                     "ply\nformat ascii 1.0\nelement vertex 2\nproperty double x\nproperty double y\n"
+                     "property double z\nend_header\n0 0 0\n1 NaN 0\n",
+                     "vertex 1 has a non-finite");
+  Bytes binary(false);
+  binary.text("ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+              "property float z\nend_header\n");
+  binary.put<float>(0.0f).put<float>(std::numeric_limits<float>::quiet_NaN()).put<float>(0.0f);
+  expectFixtureError(dir, "nan_binary.ply", binary.data, "non-finite");
+  expectFixtureError(dir, "nan.stl",
+                     "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex nan 0 0\nvertex 0 1 0\n"
+                     "endloop\nendfacet\nendsolid\n",
+                     "non-finite");
+  expectFixtureError(dir, "two.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n", "2 vertices");
+  expectFixtureError(dir, "two.ply",
+                     "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                     "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                     "0 0 0\n1 0 0\n2 0 1\n",
+                     "2 vertices");
+  expectFixtureError(dir, "two.off", "OFF\n2 1 0\n0 0 0\n1 0 0\n2 0 1\n", "2 vertices");
+}
+
+TEST(MeshIOErrors, EveryPrefixOfEveryFormatFailsCleanlyOrReads)
+{
+  // Text formats may legitimately end at a line break; what matters is: an Error or a mesh, never a crash.
+  const TriangleMesh mesh = throughFloat(pcl::patchdict::makeIcosphere(0));
+  TempDir dir;
+  for (const char* name : {"m.ply", "m.obj", "m.off", "m.stl", "m.pcd", "a.ply", "a.stl", "a.pcd"}) {
+    WriteOptions options;
+    options.binary = name[0] == 'm';
+    writeMesh(dir.file(name), mesh, options);
+    const std::string bytes = readFile(dir.file(name));
+    for (std::size_t length = 0; length < bytes.size(); ++length) {
+      writeFile(dir.file(std::string("cut_") + name), bytes.substr(0, length));
+      TriangleMesh cut;
+      try {
+        readMesh(dir.file(std::string("cut_") + name), cut);
+        EXPECT_LE(cut.numVertices(), mesh.numVertices()) << name << " " << length;
+      }
+      catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+      }
+    }
+  }
+}
+
+// ---------------------------------------------------------------- writing
+
+TEST(MeshIOWrite, FailuresLeaveNothingBehind)
+{
+  TempDir dir;
+  auto expectWriteError = [&](const std::string& path, const TriangleMesh& mesh, const std::string& mention) {
+    EXPECT_THROW(writeMesh(path, mesh), Error) << path;
+    try {
+      writeMesh(path, mesh);
+    }
+    catch (const Error& e) {
+      expectOneLineMessage(e.what(), path);
+      EXPECT_NE(std::string(e.what()).find(mention), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(listDirectory(dir.path()).empty()) << path;
+  };
+  const TriangleMesh mesh = doubleMesh();
+  TempDir other;
+  std::filesystem::create_directory(other.file("is_a_directory.ply"));
+  // Fails only at the final rename, after the temporary file was written: it must be removed.
+  EXPECT_THROW(writeMesh(other.file("is_a_directory.ply"), mesh), Error);
+  EXPECT_EQ(listDirectory(other.path()), std::set<std::string>{"is_a_directory.ply"});
+  expectWriteError(dir.file("mesh.xyz"), mesh, "extension");
+  expectWriteError(dir.file("no/such/dir/mesh.ply"), mesh, "does not exist");
+  TriangleMesh bad = mesh;
+  bad.vertices[3].y() = std::numeric_limits<double>::quiet_NaN();
+  expectWriteError(dir.file("nan.obj"), bad, "non-finite");
+  bad = mesh;
+  bad.faces[2][1] = static_cast<std::int32_t>(mesh.numVertices());
+  expectWriteError(dir.file("index.off"), bad, "out of range");
+  TriangleMesh cloud = mesh;
+  cloud.faces.clear();
+  expectWriteError(dir.file("cloud.stl"), cloud, "no faces");
+  expectWriteError(dir.file("empty.pcd"), TriangleMesh(), "empty");
+  expectWriteError(dir.file("empty.ply"), TriangleMesh(), "empty");
+  TriangleMesh huge = mesh;
+  huge.vertices[0].x() = 1e300;
+  expectWriteError(dir.file("huge.stl"), huge, "float32");
+}
+
+TEST(MeshIOWrite, ReplacesWholeAndLeavesOnlyTheTarget)
+{
+  TempDir dir;
+  const TriangleMesh mesh = throughFloat(doubleMesh());
+  for (const char* name : {"m.ply", "m.obj", "m.off", "m.stl", "m.pcd"}) {
+    const std::string path = dir.file(name);
+    writeFile(path, std::string(1 << 20, 'x'));  // an older, larger file
+    writeMesh(path, mesh);
+    TriangleMesh back;
+    readMesh(path, back);
+    EXPECT_EQ(back.numVertices(), mesh.numVertices()) << name;
+    EXPECT_EQ(listDirectory(dir.path()), std::set<std::string>{name});
+    TempDir fresh;
+    writeMesh(fresh.file(name), mesh);
+    if (std::string(name) != "m.pcd") {  // PCL's writer is not ours to pin down byte for byte
+      EXPECT_EQ(readFile(path), readFile(fresh.file(name))) << name;
+    }
+    std::filesystem::remove(path);
+  }
+}
