@@ -129,6 +129,9 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
                   bool want_normals, const Eigen::Vector3d* viewpoint, std::vector<char>& kept,
                   std::vector<Eigen::Vector3d>& out_positions, std::vector<Eigen::Vector3d>& out_normals,
                   CloudDenoisingReport& report, const PointScales* scales = nullptr);
+
+struct CloudRun;  // performProcessing's state between its stages (impl/sparse_patch_cloud_inpainter.hpp)
+struct DepthRun;  // processDepthImage's (impl/sparse_patch_cloud_inpainter_depth_image.hpp)
 }  // namespace detail
 
 /** \brief Denoises a point cloud with local height-field patches (the cloud variant of
@@ -246,6 +249,24 @@ protected:
                          PointCloudOut& output);
 
 private:
+  // performProcessing's stages, in order.
+  void readInput(detail::CloudRun& run);
+  bool processAsDepthImage(const detail::CloudRun& run, PointCloudOut& output);
+  void mergeCopies(detail::CloudRun& run);
+  typename PointCloudIn::ConstPtr searchedCloud(const detail::CloudRun& run) const;
+  void denoiseRun(detail::CloudRun& run, const detail::KnnSearch& knn, const RadiusNeighbourSearch& radius);
+  void completeRun(detail::CloudRun& run);
+  void followCopies(detail::CloudRun& run);
+  void writeOutput(const detail::CloudRun& run, PointCloudOut& output);
+  // processDepthImage's.
+  void denoiseDepthInImage(detail::DepthRun& run);
+  void denoiseDepthWithPatches(detail::DepthRun& run, const std::vector<Eigen::Vector3d>& normals);
+  void fillDepthHoles(detail::DepthRun& run);
+  void writeDepthOutput(const detail::DepthRun& run, const Eigen::Matrix3d& R, const Eigen::Vector3d& o,
+                        PointCloudOut& output);
+  /** Position (and normal, if the type has one) of an output point; its other fields are copied. */
+  static void place(PointOutT& out, const Eigen::Vector3d& position, const Eigen::Vector3d& normal);
+
   using pcl::CloudSurfaceProcessing<PointInT, PointOutT>::input_;
   using pcl::CloudSurfaceProcessing<PointInT, PointOutT>::indices_;
 
