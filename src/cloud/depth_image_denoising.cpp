@@ -128,6 +128,84 @@ int depthDenoisingRadius(const PinholeCamera& camera, const DepthDenoisingParame
   return static_cast<int>(std::clamp(std::lround(pixels), static_cast<long>(low), static_cast<long>(high)));
 }
 
+namespace {
+
+/// The 5th and 95th percentiles of the measured depths, and the window radii there.
+void depthRange(const DepthImage& image, const DepthDenoisingParameters& parameters, std::vector<double> sorted,
+                DepthDenoisingReport& report)
+{
+  const auto at = [&](std::size_t k) {
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(k), sorted.end());
+    return sorted[k];
+  };
+  report.depth_near = at(sorted.size() / 20);
+  report.depth_far = at(sorted.size() - 1 - sorted.size() / 20);
+  report.radius_near = depthDenoisingRadius(image.camera, parameters, report.depth_near);
+  report.radius_far = depthDenoisingRadius(image.camera, parameters, report.depth_far);
+}
+
+/// What every pixel's fit reads: the frame, the noise, the kernels per radius and the settings.
+struct PixelFilter {
+  const Frame& frame;
+  const DepthNoiseModel& noise;
+  const DepthDenoisingParameters& parameters;
+  std::vector<Kernel> kernels;  // per window radius
+  Kernel seed_kernel;
+  double range = 0.0, pixel_scale = 0.0;
+  int min_neighbours = 0, stride = 0;
+};
+
+/// One pixel's outcome: its depth, the window radius it used, whether its shift was clamped.
+struct PixelResult {
+  enum class Outcome { Moved, Left } outcome = Outcome::Left;
+  double depth = 0.0;
+  int radius = 0;
+  bool clamped = false;
+};
+
+/// The pixel i = (u, v), measured (1/z finite), onto its robust local plane.
+PixelResult denoisePixel(const PixelFilter& f, int u, int v, std::size_t i)
+{
+  const DepthImage& image = *f.frame.image;
+  const DepthDenoisingParameters& parameters = f.parameters;
+  PixelResult result;
+  const double wp = f.frame.inverse[i];
+  const double z = image.depth[i], sigma = f.noise.sigma(z);
+  result.depth = z;
+  const double t = f.range * sigma;
+  // Seed plane: about the pixel's own depth with the slope allowance, then about itself.
+  Plane plane;
+  const double allowance = parameters.slope_allowance * z * f.pixel_scale;
+  if (!fitPlane(f.frame, u, v, f.seed_kernel, 1, Plane(), t, allowance, 3, plane) ||
+      !fitPlane(f.frame, u, v, f.seed_kernel, 1, Plane(plane), t, 0.0, 3, plane)) {
+    // Too little support around the pixel for a seed plane: a flat reference at its own depth.
+    plane = Plane();
+  }
+  const int R = depthDenoisingRadius(image.camera, parameters, z);
+  result.radius = R;
+  const Kernel& kernel = f.kernels[R];
+  bool ok = fitPlane(f.frame, u, v, kernel, f.stride, Plane(plane), t, 0.0, f.min_neighbours, plane);
+  for (int k = 0; ok && k < parameters.refinements; ++k)
+    ok = fitPlane(f.frame, u, v, kernel, f.stride, Plane(plane), t, 0.0, f.min_neighbours, plane);
+  if (!ok)
+    return result;
+  double shift = plane.a;  // depth offset at the centre, linearised
+  const double limit = parameters.max_shift_sigmas * sigma;
+  if (parameters.max_shift_sigmas > 0.0 && std::abs(shift) > limit) {
+    shift = std::copysign(limit, shift);
+    result.clamped = true;
+  }
+  // y = (1/z_p − 1/z)·z_p²  ⇒  1/z = 1/z_p − y/z_p².
+  const double out = 1.0 / (wp - shift * wp * wp);
+  if (!(out > 0.0) || !std::isfinite(out))
+    return result;
+  result.depth = out;
+  result.outcome = PixelResult::Outcome::Moved;
+  return result;
+}
+
+}  // namespace
+
 void denoiseDepthImage(const DepthImage& image, const DepthNoiseModel& noise, const DepthDenoisingParameters& parameters,
                        std::vector<double>& depth_out, DepthDenoisingReport& report)
 {
@@ -158,28 +236,18 @@ void denoiseDepthImage(const DepthImage& image, const DepthNoiseModel& noise, co
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return;
   }
-  {
-    std::vector<double> sorted = depths;
-    const auto at = [&](std::size_t k) {
-      std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(k), sorted.end());
-      return sorted[k];
-    };
-    report.depth_near = at(sorted.size() / 20);
-    report.depth_far = at(sorted.size() - 1 - sorted.size() / 20);
-    report.radius_near = depthDenoisingRadius(image.camera, parameters, report.depth_near);
-    report.radius_far = depthDenoisingRadius(image.camera, parameters, report.depth_far);
-  }
+  depthRange(image, parameters, depths, report);
 
   const int low = std::max(1, parameters.min_radius), high = std::max(low, parameters.max_radius);
-  std::vector<Kernel> kernels(static_cast<std::size_t>(high) + 1);
+  PixelFilter filter{frame, noise, parameters, std::vector<Kernel>(static_cast<std::size_t>(high) + 1), Kernel(), 0.0, 0.0, 0, 0};
   for (int r = low; r <= high; ++r)
-    kernels[r] = makeKernel(r, parameters.spatial_sigma);
+    filter.kernels[r] = makeKernel(r, parameters.spatial_sigma);
   const int seed = std::max(1, parameters.seed_radius);
-  const Kernel seed_kernel = makeKernel(seed, parameters.spatial_sigma);
-  const double range = std::max(1e-6, parameters.range_sigmas);
-  const int min_neighbours = std::max(3, parameters.min_neighbours);
-  const int stride = std::max(1, parameters.window_stride);
-  const double pixel_scale = 1.0 / std::sqrt(image.camera.fx * image.camera.fy);  // pixel spacing / z
+  filter.seed_kernel = makeKernel(seed, parameters.spatial_sigma);
+  filter.range = std::max(1e-6, parameters.range_sigmas);
+  filter.min_neighbours = std::max(3, parameters.min_neighbours);
+  filter.stride = std::max(1, parameters.window_stride);
+  filter.pixel_scale = 1.0 / std::sqrt(image.camera.fx * image.camera.fy);  // pixel spacing / z
 
   int threads = parameters.num_threads > 0 ? parameters.num_threads : omp_get_max_threads();
   std::size_t moved = 0, left = 0, clamped = 0;
@@ -193,41 +261,17 @@ void denoiseDepthImage(const DepthImage& image, const DepthNoiseModel& noise, co
       const double wp = frame.inverse[i];
       if (!(wp == wp))
         continue;
+      const PixelResult result = denoisePixel(filter, u, v, i);
       const double z = image.depth[i], sigma = noise.sigma(z);
-      depth_out[i] = z;
-      const double t = range * sigma;
-      // Seed plane: about the pixel's own depth with the slope allowance, then about itself.
-      Plane plane;
-      const double allowance = parameters.slope_allowance * z * pixel_scale;
-      if (!fitPlane(frame, u, v, seed_kernel, 1, Plane(), t, allowance, 3, plane) ||
-          !fitPlane(frame, u, v, seed_kernel, 1, Plane(plane), t, 0.0, 3, plane)) {
-        // Too little support around the pixel for a seed plane: a flat reference at its own depth.
-        plane = Plane();
-      }
-      const int R = depthDenoisingRadius(image.camera, parameters, z);
-      radius_min = std::min(radius_min, R);
-      radius_max = std::max(radius_max, R);
-      const Kernel& kernel = kernels[R];
-      bool ok = fitPlane(frame, u, v, kernel, stride, Plane(plane), t, 0.0, min_neighbours, plane);
-      for (int k = 0; ok && k < parameters.refinements; ++k)
-        ok = fitPlane(frame, u, v, kernel, stride, Plane(plane), t, 0.0, min_neighbours, plane);
-      if (!ok) {
+      depth_out[i] = result.depth;
+      radius_min = std::min(radius_min, result.radius);
+      radius_max = std::max(radius_max, result.radius);
+      clamped += result.clamped ? 1 : 0;
+      if (result.outcome == PixelResult::Outcome::Left) {
         ++left;
         continue;
       }
-      double shift = plane.a;  // depth offset at the centre, linearised
-      const double limit = parameters.max_shift_sigmas * sigma;
-      if (parameters.max_shift_sigmas > 0.0 && std::abs(shift) > limit) {
-        shift = std::copysign(limit, shift);
-        ++clamped;
-      }
-      // y = (1/z_p − 1/z)·z_p²  ⇒  1/z = 1/z_p − y/z_p².
-      const double out = 1.0 / (wp - shift * wp * wp);
-      if (!(out > 0.0) || !std::isfinite(out)) {
-        ++left;
-        continue;
-      }
-      depth_out[i] = out;
+      const double out = result.depth;
       if (out != z) {
         ++moved;
         shift2 += ((out - z) / sigma) * ((out - z) / sigma);
