@@ -20,7 +20,7 @@ struct CloudCompletionParameters {
   /// grid's hole of radius 6 cells was not found, one of 12 cells was.
   int min_gap_faces = 20;
   int poisson_depth = 0;     ///< 0 = the smallest depth whose cell is at most 4 s (it only finds the gaps)
-  double rim_width = 0.3;    ///< the rim: points within (1 + rim_width) × the hole's radius of its centre (boot, lucy: 0.3 covers 62 %, 29 % of the hole points; 1.0 53 %, 22 %)
+  double rim_width = 0.3;    ///< the rim: points within (1 + rim_width) × the hole's radius of its centre
   int max_rim_points = 800;  ///< the spline goes through an evenly spaced subset of at most this many
   double smoothing = 1e-4;   ///< λ of the spline (0 interpolates the rim exactly)
   /// A gap whose area-weighted mean normal has length below this × its area is not flat enough for
@@ -28,7 +28,7 @@ struct CloudCompletionParameters {
   double flatness = 0.5;
   /// Lattice points up to gap_factor × s + rim_reach × the lattice spacing from the gap (in the plane)
   /// are over the hole: the gap's Poisson faces stop gap_factor × s short of the data.
-  double rim_reach = 1.0;  ///< (2.0: boot, bunny coverage 62.1 → 62.2 %, 85.6 → 86.1 %; bunny inside error +8 %)
+  double rim_reach = 1.0;
   /// New points closer than this × the lattice spacing to an input point are dropped (the data
   /// is there already).
   double clearance = 0.75;
@@ -36,21 +36,19 @@ struct CloudCompletionParameters {
   /// and their normals (biharmonic_implicit.h), sampled where Poisson's bridge lies, so that a hole
   /// through folds is filled as one surface. HeightField: a thin-plate spline over the gap's plane,
   /// sampled on a hexagonal lattice (a gap that is not flat gets Poisson's surface). Auto: the
-  /// height field for a flat gap whose rim faces one way (single_sheet), the implicit otherwise.
-  /// Harness cloud_holes, new points' mean distance ×1e-3 / coverage within 1.5 s, height field →
-  /// auto: lucy 2.944 / 29.8 % → 2.298 / 44.7 %, armadillo 1.917 / 58.1 → 1.590 / 63.6, bunny
-  /// 0.935 / 86.0 → 0.933 / 88.8, boot and demosthenes within ±1.1 % and ±1.3 points.
+  /// height field for a flat gap whose rim faces one way (single_sheet), the implicit otherwise
+  /// (what Auto gains over the height field alone: docs/results.md, "Point clouds").
   enum class Surface { Auto, Implicit, HeightField };
   Surface surface = Surface::Auto;
   /// Auto: the height field when at least this share of the rim's points face the gap's mean normal
-  /// (cosine > 0.3); 0.95 gave the same on four of the five harness scans, lucy 2.304 against 2.285.
+  /// (cosine > 0.3).
   double single_sheet = 0.98;
   int implicit_points = 500;     ///< rim points of the implicit, evenly spaced (its system is 3n + 4)
-  double implicit_offset = 2.0;  ///< ε of the off-surface constraints, × s (lucy, an earlier setup: 0.5 / 1 / 2 → 2.732 / 2.677 / 2.629)
+  double implicit_offset = 2.0;  ///< ε of the off-surface constraints, × s
   /// Implicit: Poisson's surface over the gap and up to the lattice's reach around it is sampled at
   /// this × the input density, each sample moved onto f = 0, then thinned to at most one point per
   /// disc of radius thinning × the lattice spacing (random sequential packing jams near the input's
-  /// density at 0.75: 0.84 new points per removed one on boot, the lattice 0.79).
+  /// density at 0.75).
   int oversampling = 16;
   double thinning = 0.75;
   int num_threads = 0;

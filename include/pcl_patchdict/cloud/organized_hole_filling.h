@@ -28,8 +28,7 @@ struct OrganizedFillParameters {
   /// The fit is a plane in 1/z unless a quadric lowers the weighted misfit by more than this × the
   /// Bayesian information criterion's 3 ln n. Quantised depths err alike over a whole layer of
   /// pixels, so the misfits are far from independent and BIC's own price (1) overstates the evidence
-  /// for curvature: on the real Kinect cases 1 picked quadrics that filled 0.05 s worse than the
-  /// plane on some holes, 10 kept the plane there and the quadric on the cylinders.
+  /// for curvature (docs/real_sensor_scans.md, "Figures behind the defaults").
   double curvature_evidence = 10.0;
   /// Pixels of the ring the surface is fitted to, outward from the region (0: the region's radius
   /// in pixels, clamped to 2…6).

@@ -44,9 +44,8 @@ struct CloudDenoisingParameters {
   double bandwidth = 0.0;
   std::vector<double> bandwidth_candidates{2.0, 2.5, 3.0, 3.5, 4.0, 5.0, 6.0, 7.0, 8.0, 10.0};
   /// Weight of the degrees-of-freedom term of the risk (Stein's: 1). The fit is not linear in the
-  /// data — its PCA frame moves with the noise — and with 1 the risk chose 2.5 s on all five harness
-  /// clouds with σ = 1 s, where boot's sweep put the best at 3 s (rms 1.043 at 2.5 s, 0.958 at 3 s).
-  /// With 2 all ten harness clouds came out below PCL's SOR + MLS at its best radius.
+  /// data — its PCA frame moves with the noise — and with 1 the risk chooses too narrow a bandwidth
+  /// (docs/real_sensor_scans.md, "Figures behind the defaults").
   double leverage_weight = 2.0;
   /// A point farther than this × σ from its patch's height fit without it (its frame kept) is an
   /// outlier the pre-filter missed and is removed (0 keeps every fitted
