@@ -251,9 +251,12 @@ void denoiseDepthImage(const DepthImage& image, const DepthNoiseModel& noise, co
 
   int threads = parameters.num_threads > 0 ? parameters.num_threads : omp_get_max_threads();
   std::size_t moved = 0, left = 0, clamped = 0;
-  double shift2 = 0.0;
+  // The squared shifts are summed per row and the rows added in order afterwards: an OpenMP
+  // reduction would add them in the order the threads finish, and the report's last bits would
+  // depend on the thread count.
+  std::vector<double> row_shift2(static_cast<std::size_t>(frame.height), 0.0);
   int radius_min = high, radius_max = low;
-#pragma omp parallel for schedule(dynamic, 2) num_threads(threads) reduction(+ : moved, left, clamped, shift2) \
+#pragma omp parallel for schedule(dynamic, 2) num_threads(threads) reduction(+ : moved, left, clamped) \
     reduction(min : radius_min) reduction(max : radius_max)
   for (int v = 0; v < frame.height; ++v)
     for (int u = 0; u < frame.width; ++u) {
@@ -274,9 +277,12 @@ void denoiseDepthImage(const DepthImage& image, const DepthNoiseModel& noise, co
       const double out = result.depth;
       if (out != z) {
         ++moved;
-        shift2 += ((out - z) / sigma) * ((out - z) / sigma);
+        row_shift2[static_cast<std::size_t>(v)] += ((out - z) / sigma) * ((out - z) / sigma);
       }
     }
+  double shift2 = 0.0;
+  for (const double row : row_shift2)
+    shift2 += row;
   report.moved = moved;
   report.left = left;
   report.clamped = clamped;

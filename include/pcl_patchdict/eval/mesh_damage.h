@@ -1,4 +1,4 @@
-// Seeded damage for the demo and the benchmarks, on the protocol of DESIGN.md: holes punched at
+// Seeded damage for the demo and the benchmarks, on the evaluation protocol (docs/design.md): holes punched at
 // well-separated centres, vertices dropped at random, Gaussian noise along the normals.
 #pragma once
 
@@ -26,7 +26,7 @@ struct HoledMesh {
   * for a mesh without faces, count < 1 or radius ≤ 0. */
 HoledMesh punchHoles(const TriangleMesh& mesh, int count, double radius, std::uint64_t seed);
 
-/** The protocol's two hole scores (DESIGN.md), in the truth's units. */
+/** The protocol's two hole scores (docs/design.md), in the truth's units. */
 struct HoleFillScore {
   double removed_to_output = 0.0;  ///< mean distance of the removed true vertices to the filled surface
   double new_to_truth = 0.0;       ///< mean distance of the fill's new vertices to the true surface
