@@ -366,30 +366,32 @@ std::size_t estimateOrientedNormals(const pcl::PointCloud<pcl::PointXYZ>& cloud,
   return flipped;
 }
 
-void CoarseMeshEstimation::processCloud(TriangleMesh& out, Report* report) const
-{
-  Report local;
-  Report& r = report ? *report : local;
-  r.from_cloud = true;
+namespace {
 
-  // 1–2. Finite samples with oriented unit normals.
-  auto start = Clock::now();
+using CoarseReport = CoarseMeshEstimation::Report;
+
+/** Finite samples with oriented unit normals: normals estimated and oriented for a plain cloud,
+  * normalised for a cloud with normals; fewer than `minimum` usable points is an Error. */
+pcl::PointCloud<pcl::PointNormal>::Ptr orientedSamples(const pcl::PointCloud<pcl::PointXYZ>::ConstPtr& cloud,
+                                                       const pcl::PointCloud<pcl::PointNormal>::ConstPtr& with_normals,
+                                                       int normal_neighbours, std::size_t minimum, CoarseReport& r)
+{
   pcl::PointCloud<pcl::PointNormal>::Ptr samples(new pcl::PointCloud<pcl::PointNormal>);
-  if (cloud_) {
-    r.input_points = cloud_->size();
+  if (cloud) {
+    r.input_points = cloud->size();
     pcl::PointCloud<pcl::PointXYZ> finite;
-    for (const auto& p : *cloud_)
+    for (const auto& p : *cloud)
       if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
         finite.push_back(p);
     r.points_dropped = r.input_points - finite.size();
-    if (finite.size() < getMinimumPoints())
+    if (finite.size() < minimum)
       throw Error("coarse mesh estimation: the cloud has " + std::to_string(finite.size()) +
-                  " finite points, at least " + std::to_string(getMinimumPoints()) + " are needed");
+                  " finite points, at least " + std::to_string(minimum) + " are needed");
     r.normals_estimated = true;
-    r.normals_flipped = estimateOrientedNormals(finite, normal_neighbours_, *samples, &r.mean_spacing);
+    r.normals_flipped = estimateOrientedNormals(finite, normal_neighbours, *samples, &r.mean_spacing);
   } else {
-    r.input_points = cloud_with_normals_->size();
-    for (const auto& p : *cloud_with_normals_) {
+    r.input_points = with_normals->size();
+    for (const auto& p : *with_normals) {
       const Eigen::Vector3f position = p.getVector3fMap(), normal = p.getNormalVector3fMap();
       if (!position.allFinite() || !normal.allFinite() || !(normal.norm() > 0.0f))
         continue;
@@ -398,19 +400,21 @@ void CoarseMeshEstimation::processCloud(TriangleMesh& out, Report* report) const
       samples->push_back(q);
     }
     r.points_dropped = r.input_points - samples->size();
-    if (samples->size() < getMinimumPoints())
+    if (samples->size() < minimum)
       throw Error("coarse mesh estimation: the cloud has " + std::to_string(samples->size()) +
-                  " points with finite positions and normals, at least " + std::to_string(getMinimumPoints()) +
+                  " points with finite positions and normals, at least " + std::to_string(minimum) +
                   " are needed");
     r.mean_spacing = nearestNeighbours<pcl::PointNormal>(samples, 1).mean_spacing;
   }
   if (!(r.mean_spacing > 0.0))
     throw Error("coarse mesh estimation: the cloud's points are all at one place");
-  r.seconds_normals = secondsSince(start);
+  return samples;
+}
 
-  // 3. Poisson surface.
-  start = Clock::now();
-  r.poisson_depth = poisson_depth_ > 0 ? poisson_depth_ : automaticPoissonDepth(*samples, r.mean_spacing);
+/** Poisson surface of the samples (PCL), its diagnostics muted. */
+TriangleMesh poissonSurface(const pcl::PointCloud<pcl::PointNormal>::Ptr& samples, int depth, CoarseReport& r)
+{
+  r.poisson_depth = depth > 0 ? depth : automaticPoissonDepth(*samples, r.mean_spacing);
   pcl::Poisson<pcl::PointNormal> poisson;
   poisson.setInputCloud(samples);
   poisson.setDepth(r.poisson_depth);
@@ -432,20 +436,23 @@ void CoarseMeshEstimation::processCloud(TriangleMesh& out, Report* report) const
   if (mesh.faces.empty())
     throw Error("coarse mesh estimation: Poisson reconstruction produced no surface from the cloud");
   r.area_before_trimming = mesh.surfaceArea();
-  r.seconds_poisson = secondsSince(start);
+  return mesh;
+}
 
-  // 4. Trimming, orientation, cleanup.
-  start = Clock::now();
+/** Flags the faces whose centroid is farther than `limit` from every sample (none when
+  * trim_factor ≤ 0) and records each face's nearest sample. */
+void flagFarFaces(const TriangleMesh& mesh, const pcl::PointCloud<pcl::PointNormal>& samples, double trim_factor,
+                  double limit, std::vector<char>& keep, std::vector<int>& nearest_sample)
+{
   pcl::PointCloud<pcl::PointXYZ>::Ptr positions(new pcl::PointCloud<pcl::PointXYZ>);
-  positions->resize(samples->size());
-  for (std::size_t i = 0; i < samples->size(); ++i)
-    (*positions)[i].getVector3fMap() = (*samples)[i].getVector3fMap();
+  positions->resize(samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    (*positions)[i].getVector3fMap() = samples[i].getVector3fMap();
   pcl::search::KdTree<pcl::PointXYZ> tree(false);
   tree.setInputCloud(positions);
-  const double limit = trim_factor_ * r.mean_spacing;
   const auto num_faces = static_cast<std::ptrdiff_t>(mesh.faces.size());
-  std::vector<char> keep(mesh.faces.size(), 1);
-  std::vector<int> nearest_sample(mesh.faces.size(), 0);
+  keep.assign(mesh.faces.size(), 1);
+  nearest_sample.assign(mesh.faces.size(), 0);
 #pragma omp parallel
   {
     pcl::Indices index(1);
@@ -461,10 +468,62 @@ void CoarseMeshEstimation::processCloud(TriangleMesh& out, Report* report) const
       if (tree.nearestKSearch(query, 1, index, squared) < 1)
         continue;
       nearest_sample[static_cast<std::size_t>(f)] = index[0];
-      if (trim_factor_ > 0.0 && std::sqrt(static_cast<double>(squared[0])) > limit)
+      if (trim_factor > 0.0 && std::sqrt(static_cast<double>(squared[0])) > limit)
         keep[static_cast<std::size_t>(f)] = 0;
     }
   }
+}
+
+/** Turns each connected component to agree (area-weighted) with the normals of its faces' nearest
+  * samples: marching cubes orients its triangles consistently, but which way depends on the sign
+  * convention. */
+void orientComponentsBySamples(TriangleMesh& trimmed, const pcl::PointCloud<pcl::PointNormal>& samples,
+                               const std::vector<int>& kept_nearest)
+{
+  orientFacesConsistently(trimmed);
+  std::vector<int> face_component, vertex_component;
+  const int components = computeConnectedComponents(trimmed, face_component, vertex_component);
+  std::vector<double> agreement(static_cast<std::size_t>(std::max(components, 0)), 0.0);
+  for (std::size_t f = 0; f < trimmed.faces.size(); ++f) {
+    const Face& face = trimmed.faces[f];
+    const Eigen::Vector3d a = trimmed.vertices[static_cast<std::size_t>(face[0])],
+                          b = trimmed.vertices[static_cast<std::size_t>(face[1])],
+                          c = trimmed.vertices[static_cast<std::size_t>(face[2])];
+    const Eigen::Vector3d area_normal = (b - a).cross(c - a);
+    const Eigen::Vector3d sample_normal =
+        samples[static_cast<std::size_t>(kept_nearest[f])].getNormalVector3fMap().cast<double>();
+    if (face_component[f] >= 0)
+      agreement[static_cast<std::size_t>(face_component[f])] += area_normal.dot(sample_normal);
+  }
+  for (std::size_t f = 0; f < trimmed.faces.size(); ++f)
+    if (face_component[f] >= 0 && agreement[static_cast<std::size_t>(face_component[f])] < 0.0)
+      std::swap(trimmed.faces[f][1], trimmed.faces[f][2]);
+}
+
+}  // namespace
+
+void CoarseMeshEstimation::processCloud(TriangleMesh& out, Report* report) const
+{
+  Report local;
+  Report& r = report ? *report : local;
+  r.from_cloud = true;
+
+  // 1–2. Finite samples with oriented unit normals.
+  auto start = Clock::now();
+  const pcl::PointCloud<pcl::PointNormal>::Ptr samples =
+      orientedSamples(cloud_, cloud_with_normals_, normal_neighbours_, getMinimumPoints(), r);
+  r.seconds_normals = secondsSince(start);
+
+  // 3. Poisson surface.
+  start = Clock::now();
+  TriangleMesh mesh = poissonSurface(samples, poisson_depth_, r);
+  r.seconds_poisson = secondsSince(start);
+
+  // 4. Trimming, orientation, cleanup.
+  start = Clock::now();
+  std::vector<char> keep;
+  std::vector<int> nearest_sample;
+  flagFarFaces(mesh, *samples, trim_factor_, trim_factor_ * r.mean_spacing, keep, nearest_sample);
   // Far faces are gaps in the sampling when they come alone or in small groups (random samples
   // leave holes up to ~4 mean spacings wide, measured), a bubble or a skirt when they form a large
   // connected region: only regions of at least min_trimmed_region_ faces are removed.
@@ -488,27 +547,7 @@ void CoarseMeshEstimation::processCloud(TriangleMesh& out, Report* report) const
   r.faces_trimmed = mesh.faces.size() - trimmed.faces.size();
   if (trimmed.faces.empty())
     throw Error("coarse mesh estimation: trimming removed the whole Poisson surface (trim factor too small?)");
-
-  // Marching cubes orients its triangles consistently, but which way depends on the sign
-  // convention; each component is turned to agree (area-weighted) with the input normals.
-  orientFacesConsistently(trimmed);
-  std::vector<int> face_component, vertex_component;
-  const int components = computeConnectedComponents(trimmed, face_component, vertex_component);
-  std::vector<double> agreement(static_cast<std::size_t>(std::max(components, 0)), 0.0);
-  for (std::size_t f = 0; f < trimmed.faces.size(); ++f) {
-    const Face& face = trimmed.faces[f];
-    const Eigen::Vector3d a = trimmed.vertices[static_cast<std::size_t>(face[0])],
-                          b = trimmed.vertices[static_cast<std::size_t>(face[1])],
-                          c = trimmed.vertices[static_cast<std::size_t>(face[2])];
-    const Eigen::Vector3d area_normal = (b - a).cross(c - a);
-    const Eigen::Vector3d sample_normal =
-        (*samples)[static_cast<std::size_t>(kept_nearest[f])].getNormalVector3fMap().cast<double>();
-    if (face_component[f] >= 0)
-      agreement[static_cast<std::size_t>(face_component[f])] += area_normal.dot(sample_normal);
-  }
-  for (std::size_t f = 0; f < trimmed.faces.size(); ++f)
-    if (face_component[f] >= 0 && agreement[static_cast<std::size_t>(face_component[f])] < 0.0)
-      std::swap(trimmed.faces[f][1], trimmed.faces[f][2]);
+  orientComponentsBySamples(trimmed, *samples, kept_nearest);
   cleanMesh(trimmed);
   r.faces_after_cleanup = trimmed.faces.size();
   if (trimmed.faces.empty())
