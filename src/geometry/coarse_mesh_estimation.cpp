@@ -7,6 +7,8 @@
 #include <pcl_patchdict/pcl/conversions.h>
 
 #include <pcl/features/normal_3d_omp.h>
+#include <boost/graph/adjacency_list.hpp>
+#include <boost/graph/kruskal_min_spanning_tree.hpp>
 #include <pcl/search/kdtree.h>
 #include <pcl/surface/poisson.h>
 
@@ -254,7 +256,7 @@ int automaticPoissonDepth(const pcl::PointCloud<pcl::PointNormal>& cloud, double
 // (symmetrised) kNN graph with cost 1 − |n_i·n_j|, so that it crosses between nearly parallel
 // tangent planes first; each component's root is its highest point, its normal turned to +z.
 // Points without a normal (zero vector) are passed through at the highest cost and take the mean
-// oriented normal of their neighbours afterwards.
+// oriented normal of their neighbours afterwards. The spanning forest is Boost.Graph's Kruskal.
 std::size_t propagateNormalOrientation(const pcl::PointCloud<pcl::PointXYZ>& cloud, const std::vector<std::vector<int>>& knn,
                                  std::vector<Eigen::Vector3d>& normals)
 {
@@ -270,15 +272,27 @@ std::size_t propagateNormalOrientation(const pcl::PointCloud<pcl::PointXYZ>& clo
   const auto cost = [&](std::size_t a, std::size_t b) {
     return 1.0 - std::abs(normals[a].dot(normals[b]));  // 1 when either normal is missing (zero)
   };
+  using Graph = boost::adjacency_list<boost::vecS, boost::vecS, boost::undirectedS, boost::no_property,
+                                      boost::property<boost::edge_weight_t, double>>;
+  Graph graph(n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (const int j : adjacency[i])
+      if (static_cast<std::size_t>(j) > i)
+        boost::add_edge(i, static_cast<std::size_t>(j), cost(i, static_cast<std::size_t>(j)), graph);
+  std::vector<boost::graph_traits<Graph>::edge_descriptor> forest_edges;
+  boost::kruskal_minimum_spanning_tree(graph, std::back_inserter(forest_edges));
+  std::vector<std::vector<std::size_t>> tree(n);
+  for (const auto& e : forest_edges) {
+    const std::size_t a = boost::source(e, graph), b = boost::target(e, graph);
+    tree[a].push_back(b);
+    tree[b].push_back(a);
+  }
   std::vector<std::size_t> by_height(n);
   std::iota(by_height.begin(), by_height.end(), std::size_t{0});
   std::stable_sort(by_height.begin(), by_height.end(),
                    [&](std::size_t a, std::size_t b) { return cloud[a].z > cloud[b].z; });
   std::vector<char> visited(n, 0);
   std::size_t flipped = 0;
-  // (cost, to, from): ties broken by index, so the tree does not depend on anything but the data.
-  using Entry = std::tuple<double, std::size_t, std::size_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
   for (const std::size_t root : by_height) {
     if (visited[root])
       continue;
@@ -287,22 +301,20 @@ std::size_t propagateNormalOrientation(const pcl::PointCloud<pcl::PointXYZ>& clo
       normals[root] = -normals[root];
       ++flipped;
     }
-    for (const int j : adjacency[root])
-      queue.emplace(cost(root, static_cast<std::size_t>(j)), static_cast<std::size_t>(j), root);
-    while (!queue.empty()) {
-      const auto [unused, to, from] = queue.top();
-      (void)unused;
-      queue.pop();
-      if (visited[to])
-        continue;
-      visited[to] = 1;
-      if (normals[to].dot(normals[from]) < 0.0) {
-        normals[to] = -normals[to];
-        ++flipped;
+    std::vector<std::size_t> stack{root};
+    while (!stack.empty()) {
+      const std::size_t from = stack.back();
+      stack.pop_back();
+      for (const std::size_t to : tree[from]) {
+        if (visited[to])
+          continue;
+        visited[to] = 1;
+        if (normals[to].dot(normals[from]) < 0.0) {
+          normals[to] = -normals[to];
+          ++flipped;
+        }
+        stack.push_back(to);
       }
-      for (const int j : adjacency[to])
-        if (!visited[static_cast<std::size_t>(j)])
-          queue.emplace(cost(to, static_cast<std::size_t>(j)), static_cast<std::size_t>(j), to);
     }
   }
   for (std::size_t i = 0; i < n; ++i) {
