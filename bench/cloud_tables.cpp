@@ -89,6 +89,212 @@ double meanSpacing(const Cloud::Ptr& cloud)
   return sum / static_cast<double>(cloud->size());
 }
 
+/** The table's rows, printed and optionally written to a CSV file. */
+struct Table {
+  std::ofstream csv;
+  void row(const std::string& mesh, const std::string& what, const std::string& method, double parameter, double rms,
+           std::size_t points, double coverage, double inside, double secs)
+  {
+    std::printf("%-12s %-16s %-10s %6.2f  rms %.3f  points %7zu  cov %5.1f  inside %.3f  %.2f s\n", mesh.c_str(),
+                what.c_str(), method.c_str(), parameter, rms * 1e3, points, coverage, inside * 1e3, secs);
+    if (csv)
+      csv << mesh << ',' << what << ',' << method << ',' << parameter << ',' << rms * 1e3 << ',' << points << ','
+          << coverage << ',' << inside * 1e3 << ',' << secs << '\n';
+  }
+};
+
+/** One mesh in the unit cube, its clean samples with their face normals and their mean spacing. */
+struct MeshCase {
+  std::string name;
+  TriangleMesh mesh;
+  SurfaceSamples samples;
+  std::vector<Eigen::Vector3d> normals;
+  double s = 0.0;  ///< mean nearest-neighbour spacing of the samples
+  Eigen::Vector3d low, high;
+};
+
+MeshCase loadCase(const std::string& path)
+{
+  MeshCase c;
+  readMesh(path, c.mesh);
+  UnitCubeNormalization::fromMesh(c.mesh).apply(c.mesh);
+  c.name = path.substr(path.find_last_of('/') + 1);
+  c.samples = sampleSurfaceUniform(c.mesh, 100000, 1);
+  for (const auto f : c.samples.face_ids) {
+    const Face& face = c.mesh.faces[static_cast<std::size_t>(f)];
+    const Eigen::Vector3d& a = c.mesh.vertices[static_cast<std::size_t>(face[0])];
+    c.normals.push_back((c.mesh.vertices[static_cast<std::size_t>(face[1])] - a)
+                            .cross(c.mesh.vertices[static_cast<std::size_t>(face[2])] - a)
+                            .normalized());
+  }
+  Cloud::Ptr clean(new Cloud);
+  for (const auto& p : c.samples.points)
+    clean->push_back(pcl::PointXYZ(float(p.x()), float(p.y()), float(p.z())));
+  c.s = meanSpacing(clean);
+  c.low = c.mesh.vertices.front();
+  c.high = c.low;
+  for (const auto& v : c.mesh.vertices) {
+    c.low = c.low.cwiseMin(v);
+    c.high = c.high.cwiseMax(v);
+  }
+  return c;
+}
+
+/** Denoise rows at noise level k: ours, then SOR + MLS at every radius of the sweep. */
+void denoiseRows(const MeshCase& c, const PointToMeshDistance& distance, double k, const std::vector<double>& radii,
+                 Table& table)
+{
+  const double s = c.s;
+  std::mt19937_64 rng(static_cast<std::uint64_t>(1000 * k) + 7);
+  std::normal_distribution<double> gauss(0.0, k * s);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  Cloud::Ptr noisy(new Cloud);
+  for (std::size_t i = 0; i < c.samples.points.size(); ++i) {
+    const Eigen::Vector3d p = c.samples.points[i] + gauss(rng) * c.normals[i];
+    noisy->push_back(pcl::PointXYZ(float(p.x()), float(p.y()), float(p.z())));
+  }
+  for (int i = 0; i < 1000; ++i) {
+    const Eigen::Vector3d p = c.low + Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng)).cwiseProduct(c.high - c.low);
+    noisy->push_back(pcl::PointXYZ(float(p.x()), float(p.y()), float(p.z())));
+  }
+  const std::string what = "noise " + std::to_string(k).substr(0, 4);
+  auto start = std::chrono::steady_clock::now();
+  SparsePatchCloudInpainter<pcl::PointXYZ> ours;
+  ours.setInputCloud(noisy);
+  Cloud denoised;
+  ours.process(denoised);
+  table.row(c.name, what, "patches", ours.getReport().bandwidth / s, rmsDistance(distance, denoised), denoised.size(),
+            0, 0, seconds(start));
+  start = std::chrono::steady_clock::now();
+  Cloud::Ptr filtered(new Cloud);
+  pcl::StatisticalOutlierRemoval<pcl::PointXYZ> sor;
+  sor.setInputCloud(noisy);
+  sor.setMeanK(50);
+  sor.setStddevMulThresh(1.0);
+  sor.filter(*filtered);
+  const double sor_seconds = seconds(start);
+  for (const double r : radii) {
+    start = std::chrono::steady_clock::now();
+    pcl::MovingLeastSquares<pcl::PointXYZ, pcl::PointXYZ> mls;
+    mls.setInputCloud(filtered);
+    mls.setSearchMethod(pcl::search::KdTree<pcl::PointXYZ>::Ptr(new pcl::search::KdTree<pcl::PointXYZ>));
+    mls.setPolynomialOrder(2);
+    mls.setSearchRadius(r * s);
+    mls.setSqrGaussParam(r * s * r * s);
+    Cloud smoothed;
+    mls.process(smoothed);
+    table.row(c.name, what, "sor+mls", r, rmsDistance(distance, smoothed), smoothed.size(), 0, 0,
+              sor_seconds + seconds(start));
+  }
+}
+
+/** The holes case: 12 discs of radius 0.035 around random samples, their samples removed. */
+struct HolesCase {
+  std::vector<Eigen::Vector3d> centres, removed;
+  pcl::PointCloud<pcl::PointNormal>::Ptr holed{new pcl::PointCloud<pcl::PointNormal>};
+
+  bool inDisc(const Eigen::Vector3d& p, double margin) const
+  {
+    bool inside = false;
+    for (const auto& c : centres)
+      inside = inside || (p - c).norm() < 0.035 + margin;
+    return inside;
+  }
+};
+
+HolesCase punchHoles(const MeshCase& c)
+{
+  HolesCase h;
+  std::mt19937_64 rng(99);
+  std::uniform_int_distribution<std::size_t> pick(0, c.samples.points.size() - 1);
+  for (int k = 0; k < 12; ++k)
+    h.centres.push_back(c.samples.points[pick(rng)]);
+  for (std::size_t i = 0; i < c.samples.points.size(); ++i) {
+    if (h.inDisc(c.samples.points[i], 0.0)) {
+      h.removed.push_back(c.samples.points[i]);
+      continue;
+    }
+    pcl::PointNormal p;
+    p.getVector3fMap() = c.samples.points[i].cast<float>();
+    p.getNormalVector3fMap() = c.normals[i].cast<float>();
+    h.holed->push_back(p);
+  }
+  return h;
+}
+
+/** One holes row: coverage of the removed samples by `out`; inside = mean distance to the mesh of
+  * the added points over the discs (within 3 s of one); the others fill openings the mesh has
+  * itself (a scan's own small holes), reported apart as the parameter. */
+void holesRow(const MeshCase& c, const PointToMeshDistance& distance, const HolesCase& h,
+              const std::vector<Eigen::Vector3d>& out, const std::vector<Eigen::Vector3d>& added,
+              const std::string& method, double secs, Table& table)
+{
+  const double s = c.s;
+  Cloud::Ptr all(new Cloud);
+  for (const auto& p : out)
+    all->push_back(pcl::PointXYZ(float(p.x()), float(p.y()), float(p.z())));
+  pcl::search::KdTree<pcl::PointXYZ> tree;
+  tree.setInputCloud(all);
+  std::size_t covered = 0;
+  pcl::Indices index;
+  std::vector<float> squared;
+  for (const auto& r : h.removed) {
+    tree.nearestKSearch(pcl::PointXYZ(float(r.x()), float(r.y()), float(r.z())), 1, index, squared);
+    covered += std::sqrt(double(squared[0])) < 1.5 * s ? 1 : 0;
+  }
+  std::vector<Eigen::Vector3d> over_discs;
+  for (const auto& p : added)
+    if (h.inDisc(p, 3.0 * s))
+      over_discs.push_back(p);
+  double inside = 0.0;
+  const std::vector<double> d = over_discs.empty() ? std::vector<double>{} : distance.distances(over_discs);
+  for (const double x : d)
+    inside += x;
+  table.row(c.name, "holes 0.035", method, static_cast<double>(added.size() - over_discs.size()), 0,
+            over_discs.size(), 100.0 * covered / std::max<std::size_t>(1, h.removed.size()),
+            d.empty() ? 0.0 : inside / static_cast<double>(d.size()), secs);
+}
+
+/** Holes rows: ours (completion), then Poisson (depth 8) resampled at the input's density inside
+  * the discs (as if the holes were known). */
+void holesRows(const MeshCase& c, const PointToMeshDistance& distance, Table& table)
+{
+  const HolesCase h = punchHoles(c);
+  auto start = std::chrono::steady_clock::now();
+  SparsePatchCloudInpainter<pcl::PointNormal> completer;
+  completer.setInputCloud(h.holed);
+  completer.setMode(SparsePatchCloudInpainter<pcl::PointNormal>::Mode::Complete);
+  pcl::PointCloud<pcl::PointNormal> completed;
+  completer.process(completed);
+  std::vector<Eigen::Vector3d> out, added;
+  for (std::size_t i = 0; i < completed.size(); ++i) {
+    out.emplace_back(completed[i].x, completed[i].y, completed[i].z);
+    if (i >= completer.getReport().output_points)
+      added.push_back(out.back());
+  }
+  holesRow(c, distance, h, out, added, "patches", seconds(start), table);
+  start = std::chrono::steady_clock::now();
+  pcl::Poisson<pcl::PointNormal> poisson;
+  poisson.setDepth(8);
+  poisson.setInputCloud(h.holed);
+  pcl::PolygonMesh polygons;
+  poisson.reconstruct(polygons);
+  TriangleMesh surface;
+  fromPolygonMesh(polygons, surface);
+  const double density = static_cast<double>(c.samples.points.size()) / c.mesh.surfaceArea();
+  const SurfaceSamples resampled =
+      sampleSurfaceUniform(surface, static_cast<std::size_t>(density * surface.surfaceArea()), 3);
+  std::vector<Eigen::Vector3d> poisson_out, poisson_added;
+  for (const auto& p : *h.holed)
+    poisson_out.emplace_back(p.x, p.y, p.z);
+  for (const auto& p : resampled.points)
+    if (h.inDisc(p, 0.0)) {
+      poisson_out.push_back(p);
+      poisson_added.push_back(p);
+    }
+  holesRow(c, distance, h, poisson_out, poisson_added, "poisson8", seconds(start), table);
+}
+
 }  // namespace
 
 int main(int argc, char** argv)
@@ -114,179 +320,17 @@ int main(int argc, char** argv)
     std::cerr << "cloud_tables: no mesh given\n";
     return 2;
   }
-  std::ofstream csv;
+  Table table;
   if (!csv_path.empty()) {
-    csv.open(csv_path);
-    csv << "mesh,case,method,parameter,rms_x1000,points,coverage_pct,inside_x1000,seconds\n";
+    table.csv.open(csv_path);
+    table.csv << "mesh,case,method,parameter,rms_x1000,points,coverage_pct,inside_x1000,seconds\n";
   }
-  const auto row = [&](const std::string& mesh, const std::string& what, const std::string& method, double parameter,
-                       double rms, std::size_t points, double coverage, double inside, double secs) {
-    std::printf("%-12s %-16s %-10s %6.2f  rms %.3f  points %7zu  cov %5.1f  inside %.3f  %.2f s\n", mesh.c_str(),
-                what.c_str(), method.c_str(), parameter, rms * 1e3, points, coverage, inside * 1e3, secs);
-    if (csv)
-      csv << mesh << ',' << what << ',' << method << ',' << parameter << ',' << rms * 1e3 << ',' << points << ','
-          << coverage << ',' << inside * 1e3 << ',' << secs << '\n';
-  };
-
   for (const std::string& path : meshes) {
-    TriangleMesh mesh;
-    readMesh(path, mesh);
-    UnitCubeNormalization::fromMesh(mesh).apply(mesh);
-    const std::string name = path.substr(path.find_last_of('/') + 1);
-    const PointToMeshDistance distance(mesh);
-    const SurfaceSamples samples = sampleSurfaceUniform(mesh, 100000, 1);
-    std::vector<Eigen::Vector3d> normals;
-    for (const auto f : samples.face_ids) {
-      const Face& face = mesh.faces[static_cast<std::size_t>(f)];
-      const Eigen::Vector3d& a = mesh.vertices[static_cast<std::size_t>(face[0])];
-      normals.push_back((mesh.vertices[static_cast<std::size_t>(face[1])] - a)
-                            .cross(mesh.vertices[static_cast<std::size_t>(face[2])] - a)
-                            .normalized());
-    }
-    Cloud::Ptr clean(new Cloud);
-    for (const auto& p : samples.points)
-      clean->push_back(pcl::PointXYZ(float(p.x()), float(p.y()), float(p.z())));
-    const double s = meanSpacing(clean);
-    Eigen::Vector3d low = mesh.vertices.front(), high = low;
-    for (const auto& v : mesh.vertices) {
-      low = low.cwiseMin(v);
-      high = high.cwiseMax(v);
-    }
-
-    for (const double k : levels) {
-      std::mt19937_64 rng(static_cast<std::uint64_t>(1000 * k) + 7);
-      std::normal_distribution<double> gauss(0.0, k * s);
-      std::uniform_real_distribution<double> uniform(0.0, 1.0);
-      Cloud::Ptr noisy(new Cloud);
-      for (std::size_t i = 0; i < samples.points.size(); ++i) {
-        const Eigen::Vector3d p = samples.points[i] + gauss(rng) * normals[i];
-        noisy->push_back(pcl::PointXYZ(float(p.x()), float(p.y()), float(p.z())));
-      }
-      for (int i = 0; i < 1000; ++i) {
-        const Eigen::Vector3d p = low + Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng)).cwiseProduct(high - low);
-        noisy->push_back(pcl::PointXYZ(float(p.x()), float(p.y()), float(p.z())));
-      }
-      const std::string what = "noise " + std::to_string(k).substr(0, 4);
-      auto start = std::chrono::steady_clock::now();
-      SparsePatchCloudInpainter<pcl::PointXYZ> ours;
-      ours.setInputCloud(noisy);
-      Cloud denoised;
-      ours.process(denoised);
-      row(name, what, "patches", ours.getReport().bandwidth / s, rmsDistance(distance, denoised), denoised.size(), 0, 0,
-          seconds(start));
-      start = std::chrono::steady_clock::now();
-      Cloud::Ptr filtered(new Cloud);
-      pcl::StatisticalOutlierRemoval<pcl::PointXYZ> sor;
-      sor.setInputCloud(noisy);
-      sor.setMeanK(50);
-      sor.setStddevMulThresh(1.0);
-      sor.filter(*filtered);
-      const double sor_seconds = seconds(start);
-      for (const double r : radii) {
-        start = std::chrono::steady_clock::now();
-        pcl::MovingLeastSquares<pcl::PointXYZ, pcl::PointXYZ> mls;
-        mls.setInputCloud(filtered);
-        mls.setSearchMethod(pcl::search::KdTree<pcl::PointXYZ>::Ptr(new pcl::search::KdTree<pcl::PointXYZ>));
-        mls.setPolynomialOrder(2);
-        mls.setSearchRadius(r * s);
-        mls.setSqrGaussParam(r * s * r * s);
-        Cloud smoothed;
-        mls.process(smoothed);
-        row(name, what, "sor+mls", r, rmsDistance(distance, smoothed), smoothed.size(), 0, 0, sor_seconds + seconds(start));
-      }
-    }
-
-    // Holes: 12 discs of radius 0.035 around random samples.
-    std::mt19937_64 rng(99);
-    std::uniform_int_distribution<std::size_t> pick(0, samples.points.size() - 1);
-    std::vector<Eigen::Vector3d> centres;
-    for (int h = 0; h < 12; ++h)
-      centres.push_back(samples.points[pick(rng)]);
-    pcl::PointCloud<pcl::PointNormal>::Ptr holed(new pcl::PointCloud<pcl::PointNormal>);
-    std::vector<Eigen::Vector3d> removed;
-    for (std::size_t i = 0; i < samples.points.size(); ++i) {
-      bool inside = false;
-      for (const auto& c : centres)
-        inside = inside || (samples.points[i] - c).norm() < 0.035;
-      if (inside) {
-        removed.push_back(samples.points[i]);
-        continue;
-      }
-      pcl::PointNormal p;
-      p.getVector3fMap() = samples.points[i].cast<float>();
-      p.getNormalVector3fMap() = normals[i].cast<float>();
-      holed->push_back(p);
-    }
-    const auto score = [&](const std::vector<Eigen::Vector3d>& out, const std::vector<Eigen::Vector3d>& added,
-                           const std::string& method, double secs) {
-      Cloud::Ptr all(new Cloud);
-      for (const auto& p : out)
-        all->push_back(pcl::PointXYZ(float(p.x()), float(p.y()), float(p.z())));
-      pcl::search::KdTree<pcl::PointXYZ> tree;
-      tree.setInputCloud(all);
-      std::size_t covered = 0;
-      pcl::Indices index;
-      std::vector<float> squared;
-      for (const auto& r : removed) {
-        tree.nearestKSearch(pcl::PointXYZ(float(r.x()), float(r.y()), float(r.z())), 1, index, squared);
-        covered += std::sqrt(double(squared[0])) < 1.5 * s ? 1 : 0;
-      }
-      // Inside: the added points over the discs (within 3 s of one); the others fill openings the
-      // mesh has itself (a scan's own small holes), reported apart.
-      std::vector<Eigen::Vector3d> over_discs;
-      for (const auto& p : added) {
-        bool near = false;
-        for (const auto& c : centres)
-          near = near || (p - c).norm() < 0.035 + 3.0 * s;
-        if (near)
-          over_discs.push_back(p);
-      }
-      double inside = 0.0;
-      const std::vector<double> d = over_discs.empty() ? std::vector<double>{} : distance.distances(over_discs);
-      for (const double x : d)
-        inside += x;
-      row(name, "holes 0.035", method, static_cast<double>(added.size() - over_discs.size()), 0, over_discs.size(),
-          100.0 * covered / std::max<std::size_t>(1, removed.size()),
-          d.empty() ? 0.0 : inside / static_cast<double>(d.size()), secs);
-    };
-    auto start = std::chrono::steady_clock::now();
-    SparsePatchCloudInpainter<pcl::PointNormal> completer;
-    completer.setInputCloud(holed);
-    completer.setMode(SparsePatchCloudInpainter<pcl::PointNormal>::Mode::Complete);
-    pcl::PointCloud<pcl::PointNormal> completed;
-    completer.process(completed);
-    std::vector<Eigen::Vector3d> out, added;
-    for (std::size_t i = 0; i < completed.size(); ++i) {
-      out.emplace_back(completed[i].x, completed[i].y, completed[i].z);
-      if (i >= completer.getReport().output_points)
-        added.push_back(out.back());
-    }
-    score(out, added, "patches", seconds(start));
-    // Poisson (depth 8) resampled at the input's density inside the discs (as if the holes were known).
-    start = std::chrono::steady_clock::now();
-    pcl::Poisson<pcl::PointNormal> poisson;
-    poisson.setDepth(8);
-    poisson.setInputCloud(holed);
-    pcl::PolygonMesh polygons;
-    poisson.reconstruct(polygons);
-    TriangleMesh surface;
-    fromPolygonMesh(polygons, surface);
-    const double density = static_cast<double>(samples.points.size()) / mesh.surfaceArea();
-    const SurfaceSamples resampled =
-        sampleSurfaceUniform(surface, static_cast<std::size_t>(density * surface.surfaceArea()), 3);
-    std::vector<Eigen::Vector3d> poisson_out, poisson_added;
-    for (const auto& p : *holed)
-      poisson_out.emplace_back(p.x, p.y, p.z);
-    for (const auto& p : resampled.points) {
-      bool inside = false;
-      for (const auto& c : centres)
-        inside = inside || (p - c).norm() < 0.035;
-      if (inside) {
-        poisson_out.push_back(p);
-        poisson_added.push_back(p);
-      }
-    }
-    score(poisson_out, poisson_added, "poisson8", seconds(start));
+    const MeshCase c = loadCase(path);
+    const PointToMeshDistance distance(c.mesh);
+    for (const double k : levels)
+      denoiseRows(c, distance, k, radii, table);
+    holesRows(c, distance, table);
   }
   return 0;
 }

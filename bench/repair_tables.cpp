@@ -174,6 +174,153 @@ struct Table {
   }
 };
 
+/** The run's settings that every case needs. */
+struct Settings {
+  PatchDictionary::ConstPtr global;
+  bool local = false;
+  std::uint64_t seed = 1;
+  std::string cases_dir;
+};
+
+/** The three Markdown tables and the CSV rows. */
+struct Tables {
+  Table missing, holes, noise;
+  std::string csv = "table,mesh,case,method,error,second_error,seconds,iterations\n";
+
+  Tables(bool global, bool local)
+  {
+    const std::string extra = std::string(global ? " | global" : "") + (local ? " | local" : "");
+    const std::string extra_rule = std::string(global ? "---|" : "") + (local ? "---|" : "");
+    missing.markdown = "| mesh | missing | harmonic | bi-Laplacian (base) | self-similar" + extra +
+                       " |\n|---|---|---|---|---|" + extra_rule + "\n";
+    holes.markdown = "| mesh | removed V | Liepa (base) | self-similar" + extra + " |\n|---|---|---|---|" + extra_rule +
+                     "\n";
+    noise.markdown = "| mesh | noisy | Laplacian (oracle) | Taubin (oracle) | our base | self-similar" + extra +
+                     " |\n|---|---|---|---|---|---|" + extra_rule + "\n";
+  }
+  void row(const char* table, const std::string& mesh, const std::string& damage, const char* method, const Result& r)
+  {
+    char buffer[256];
+    std::snprintf(buffer, sizeof buffer, "%s,%s,%s,%s,%.6g,%.6g,%.4g,%d\n", table, mesh.c_str(), damage.c_str(),
+                  method, r.error, r.second, r.seconds, r.iterations);
+    csv += buffer;
+  }
+};
+
+/** Missing vertices, 20 % and 50 %: harmonic, bi-Laplacian (base), self-similar (and global, local). */
+void missingRows(const std::string& name, const TriangleMesh& truth, const Settings& settings, Tables& tables)
+{
+  Table& table = tables.missing;
+  for (double fraction : {0.2, 0.5}) {
+    const std::string damage = std::to_string(static_cast<int>(100 * fraction + 0.5)) + "%";
+    const std::vector<int> missing = pickMissingVertices(truth, fraction, settings.seed);
+    const Result harmonic = harmonicCase(truth, missing);
+    const Result base = missingCase(truth, missing, false, nullptr);
+    const Result self = missingCase(truth, missing, true, nullptr);
+    tables.row("missing", name, damage, "harmonic", harmonic);
+    tables.row("missing", name, damage, "bilaplacian", base);
+    tables.row("missing", name, damage, "self_similar", self);
+    table.markdown += "| " + name + " | " + damage + " |";
+    table.cell(" %.4f (%.2f s) |", harmonic.error, harmonic.seconds);
+    table.cell(" %.4f (%.2f s) |", base.error, base.seconds);
+    table.cell(" %.4f (%.1f s) |", self.error, self.seconds);
+    if (settings.global) {
+      const Result g = missingCase(truth, missing, true, settings.global);
+      tables.row("missing", name, damage, "global", g);
+      table.cell(" %.4f (%.1f s) |", g.error, g.seconds);
+    }
+    if (settings.local) {
+      const Result l = missingCase(truth, missing, true, localDictionary(truth, self.patch_side));
+      tables.row("missing", name, damage, "local", l);
+      table.cell(" %.4f (%.1f s) |", l.error, l.seconds);
+    }
+    table.markdown += "\n";
+  }
+}
+
+/** Holes, 12 of radius 0.035: Liepa (base), self-similar (and global, local). */
+void holesRows(const std::string& name, const TriangleMesh& truth, const HoledMesh& holed, const Settings& settings,
+               Tables& tables)
+{
+  Table& table = tables.holes;
+  const Result liepa = holesCase(truth, holed, false, nullptr);
+  const Result self = holesCase(truth, holed, true, nullptr);
+  tables.row("holes", name, "r0.035", "liepa", liepa);
+  tables.row("holes", name, "r0.035", "self_similar", self);
+  table.markdown += "| " + name + " | " + std::to_string(holed.removed.size()) + " |";
+  table.cell(" %.3f / %.3f (%.2f s) |", liepa.error, liepa.second, liepa.seconds);
+  table.cell(" %.3f / %.3f (%.1f s) |", self.error, self.second, self.seconds);
+  if (settings.global) {
+    const Result g = holesCase(truth, holed, true, settings.global);
+    tables.row("holes", name, "r0.035", "global", g);
+    table.cell(" %.3f / %.3f (%.1f s) |", g.error, g.second, g.seconds);
+  }
+  if (settings.local) {
+    const Result l = holesCase(truth, holed, true, localDictionary(truth, self.patch_side));
+    tables.row("holes", name, "r0.035", "local", l);
+    table.cell(" %.3f / %.3f (%.1f s) |", l.error, l.second, l.seconds);
+  }
+  table.markdown += "\n";
+}
+
+/** Noise of 0.5 × mean edge: the input, the smoothing oracles, our base, self-similar (and global, local). */
+void noiseRows(const std::string& name, const TriangleMesh& truth, const TriangleMesh& noisy, const Settings& settings,
+               Tables& tables)
+{
+  Table& table = tables.noise;
+  Result input;
+  input.error = 1e3 * vertexRMSE(truth, noisy);
+  const Result laplacian = smoothingOracle(truth, noisy, false);
+  const Result taubin = smoothingOracle(truth, noisy, true);
+  const Result base = denoiseCase(truth, noisy, false, nullptr);
+  const Result patched = denoiseCase(truth, noisy, true, nullptr);
+  tables.row("noise", name, "0.5edge", "noisy", input);
+  tables.row("noise", name, "0.5edge", "laplacian_oracle", laplacian);
+  tables.row("noise", name, "0.5edge", "taubin_oracle", taubin);
+  tables.row("noise", name, "0.5edge", "base", base);
+  tables.row("noise", name, "0.5edge", "self_similar", patched);
+  table.markdown += "| " + name + " |";
+  table.cell(" %.3f |", input.error);
+  table.cell(" %.3f (%.0f it) |", laplacian.error, laplacian.iterations);
+  table.cell(" %.3f (%.0f it) |", taubin.error, taubin.iterations);
+  table.cell(" %.3f (%.2f s) |", base.error, base.seconds);
+  table.cell(" %.3f (%.1f s) |", patched.error, patched.seconds);
+  if (settings.global) {
+    const Result g = denoiseCase(truth, noisy, true, settings.global);
+    tables.row("noise", name, "0.5edge", "global", g);
+    table.cell(" %.3f (%.1f s) |", g.error, g.seconds);
+  }
+  if (settings.local) {
+    // The paper's denoising: a dictionary of a clean scan of the object (here: the truth).
+    const Result l = denoiseCase(truth, noisy, true, localDictionary(truth, patched.patch_side));
+    tables.row("noise", name, "0.5edge", "local", l);
+    table.cell(" %.3f (%.1f s) |", l.error, l.seconds);
+  }
+  table.markdown += "\n";
+}
+
+/** Every case of one mesh. */
+void meshRows(const std::string& path, const Settings& settings, Tables& tables)
+{
+  TriangleMesh truth;
+  readMesh(path, truth);
+  truth.normals.clear();
+  UnitCubeNormalization::fromMesh(truth).apply(truth);
+  const std::string name = std::filesystem::path(path).stem().string();
+  std::fprintf(stderr, "%s: %zu vertices\n", name.c_str(), truth.numVertices());
+  missingRows(name, truth, settings, tables);
+  const HoledMesh holed = punchHoles(truth, 12, 0.035, settings.seed + 1);
+  const TriangleMesh noisy = addNormalNoise(truth, 0.5 * truth.meanEdgeLength(), settings.seed + 2);
+  if (!settings.cases_dir.empty()) {
+    std::filesystem::create_directories(settings.cases_dir);
+    writeMesh(settings.cases_dir + "/" + name + "_truth.ply", truth);
+    writeMesh(settings.cases_dir + "/" + name + "_holes.ply", holed.mesh);
+    writeMesh(settings.cases_dir + "/" + name + "_noisy.ply", noisy);
+  }
+  holesRows(name, truth, holed, settings, tables);
+  noiseRows(name, truth, noisy, settings, tables);
+}
+
 }  // namespace
 
 int main(int argc, char** argv)
@@ -181,9 +328,8 @@ int main(int argc, char** argv)
   const char* usage =
       "usage: repair_tables MESH... [--dict D.pdd] [--local] [--seed S] [--csv FILE] [--write-cases DIR]\n";
   std::vector<std::string> meshes;
-  std::string dictionary_path, csv_path, cases_dir;
-  bool local = false;
-  std::uint64_t seed = 1;
+  std::string dictionary_path, csv_path;
+  Settings settings;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--dict" && i + 1 < argc)
@@ -191,11 +337,11 @@ int main(int argc, char** argv)
     else if (a == "--csv" && i + 1 < argc)
       csv_path = argv[++i];
     else if (a == "--write-cases" && i + 1 < argc)
-      cases_dir = argv[++i];
+      settings.cases_dir = argv[++i];
     else if (a == "--seed" && i + 1 < argc)
-      seed = std::strtoull(argv[++i], nullptr, 10);
+      settings.seed = std::strtoull(argv[++i], nullptr, 10);
     else if (a == "--local")
-      local = true;
+      settings.local = true;
     else if (!a.empty() && a[0] == '-') {
       std::fputs(usage, stderr);
       return 2;
@@ -207,125 +353,20 @@ int main(int argc, char** argv)
     return 2;
   }
   try {
-    PatchDictionary::ConstPtr global;
     if (!dictionary_path.empty())
-      global = PatchDictionary::load(dictionary_path);
-    std::string csv = "table,mesh,case,method,error,second_error,seconds,iterations\n";
-    const auto row = [&](const char* table, const std::string& mesh, const std::string& damage, const char* method,
-                         const Result& r) {
-      char buffer[256];
-      std::snprintf(buffer, sizeof buffer, "%s,%s,%s,%s,%.6g,%.6g,%.4g,%d\n", table, mesh.c_str(), damage.c_str(),
-                    method, r.error, r.second, r.seconds, r.iterations);
-      csv += buffer;
-    };
-    const std::string extra = std::string(global ? " | global" : "") + (local ? " | local" : "");
-    const std::string extra_rule = std::string(global ? "---|" : "") + (local ? "---|" : "");
-    Table missing_table{"| mesh | missing | harmonic | bi-Laplacian (base) | self-similar" + extra +
-                        " |\n|---|---|---|---|---|" + extra_rule + "\n"};
-    Table holes_table{"| mesh | removed V | Liepa (base) | self-similar" + extra + " |\n|---|---|---|---|" + extra_rule +
-                      "\n"};
-    Table noise_table{"| mesh | noisy | Laplacian (oracle) | Taubin (oracle) | our base | self-similar" + extra +
-                      " |\n|---|---|---|---|---|---|" + extra_rule + "\n"};
-    for (const std::string& path : meshes) {
-      TriangleMesh truth;
-      readMesh(path, truth);
-      truth.normals.clear();
-      UnitCubeNormalization::fromMesh(truth).apply(truth);
-      const std::string name = std::filesystem::path(path).stem().string();
-      std::fprintf(stderr, "%s: %zu vertices\n", name.c_str(), truth.numVertices());
-
-      for (double fraction : {0.2, 0.5}) {
-        const std::string damage = std::to_string(static_cast<int>(100 * fraction + 0.5)) + "%";
-        const std::vector<int> missing = pickMissingVertices(truth, fraction, seed);
-        const Result harmonic = harmonicCase(truth, missing);
-        const Result base = missingCase(truth, missing, false, nullptr);
-        const Result self = missingCase(truth, missing, true, nullptr);
-        row("missing", name, damage, "harmonic", harmonic);
-        row("missing", name, damage, "bilaplacian", base);
-        row("missing", name, damage, "self_similar", self);
-        missing_table.markdown += "| " + name + " | " + damage + " |";
-        missing_table.cell(" %.4f (%.2f s) |", harmonic.error, harmonic.seconds);
-        missing_table.cell(" %.4f (%.2f s) |", base.error, base.seconds);
-        missing_table.cell(" %.4f (%.1f s) |", self.error, self.seconds);
-        if (global) {
-          const Result g = missingCase(truth, missing, true, global);
-          row("missing", name, damage, "global", g);
-          missing_table.cell(" %.4f (%.1f s) |", g.error, g.seconds);
-        }
-        if (local) {
-          const Result l = missingCase(truth, missing, true, localDictionary(truth, self.patch_side));
-          row("missing", name, damage, "local", l);
-          missing_table.cell(" %.4f (%.1f s) |", l.error, l.seconds);
-        }
-        missing_table.markdown += "\n";
-      }
-
-      const HoledMesh holed = punchHoles(truth, 12, 0.035, seed + 1);
-      const TriangleMesh noisy = addNormalNoise(truth, 0.5 * truth.meanEdgeLength(), seed + 2);
-      if (!cases_dir.empty()) {
-        std::filesystem::create_directories(cases_dir);
-        writeMesh(cases_dir + "/" + name + "_truth.ply", truth);
-        writeMesh(cases_dir + "/" + name + "_holes.ply", holed.mesh);
-        writeMesh(cases_dir + "/" + name + "_noisy.ply", noisy);
-      }
-      const Result liepa = holesCase(truth, holed, false, nullptr);
-      const Result self = holesCase(truth, holed, true, nullptr);
-      row("holes", name, "r0.035", "liepa", liepa);
-      row("holes", name, "r0.035", "self_similar", self);
-      holes_table.markdown += "| " + name + " | " + std::to_string(holed.removed.size()) + " |";
-      holes_table.cell(" %.3f / %.3f (%.2f s) |", liepa.error, liepa.second, liepa.seconds);
-      holes_table.cell(" %.3f / %.3f (%.1f s) |", self.error, self.second, self.seconds);
-      if (global) {
-        const Result g = holesCase(truth, holed, true, global);
-        row("holes", name, "r0.035", "global", g);
-        holes_table.cell(" %.3f / %.3f (%.1f s) |", g.error, g.second, g.seconds);
-      }
-      if (local) {
-        const Result l = holesCase(truth, holed, true, localDictionary(truth, self.patch_side));
-        row("holes", name, "r0.035", "local", l);
-        holes_table.cell(" %.3f / %.3f (%.1f s) |", l.error, l.second, l.seconds);
-      }
-      holes_table.markdown += "\n";
-
-      Result input;
-      input.error = 1e3 * vertexRMSE(truth, noisy);
-      const Result laplacian = smoothingOracle(truth, noisy, false);
-      const Result taubin = smoothingOracle(truth, noisy, true);
-      const Result base = denoiseCase(truth, noisy, false, nullptr);
-      const Result patched = denoiseCase(truth, noisy, true, nullptr);
-      row("noise", name, "0.5edge", "noisy", input);
-      row("noise", name, "0.5edge", "laplacian_oracle", laplacian);
-      row("noise", name, "0.5edge", "taubin_oracle", taubin);
-      row("noise", name, "0.5edge", "base", base);
-      row("noise", name, "0.5edge", "self_similar", patched);
-      noise_table.markdown += "| " + name + " |";
-      noise_table.cell(" %.3f |", input.error);
-      noise_table.cell(" %.3f (%.0f it) |", laplacian.error, laplacian.iterations);
-      noise_table.cell(" %.3f (%.0f it) |", taubin.error, taubin.iterations);
-      noise_table.cell(" %.3f (%.2f s) |", base.error, base.seconds);
-      noise_table.cell(" %.3f (%.1f s) |", patched.error, patched.seconds);
-      if (global) {
-        const Result g = denoiseCase(truth, noisy, true, global);
-        row("noise", name, "0.5edge", "global", g);
-        noise_table.cell(" %.3f (%.1f s) |", g.error, g.seconds);
-      }
-      if (local) {
-        // The paper's denoising: a dictionary of a clean scan of the object (here: the truth).
-        const Result l = denoiseCase(truth, noisy, true, localDictionary(truth, patched.patch_side));
-        row("noise", name, "0.5edge", "local", l);
-        noise_table.cell(" %.3f (%.1f s) |", l.error, l.seconds);
-      }
-      noise_table.markdown += "\n";
-    }
+      settings.global = PatchDictionary::load(dictionary_path);
+    Tables tables(settings.global != nullptr, settings.local);
+    for (const std::string& path : meshes)
+      meshRows(path, settings, tables);
     std::printf("Errors ×1e-3 of the unit cube; seconds of the repair in parentheses. Seed %llu.\n\n",
-                static_cast<unsigned long long>(seed));
-    std::printf("Missing vertices (RMSE over the missing ones):\n\n%s\n", missing_table.markdown.c_str());
+                static_cast<unsigned long long>(settings.seed));
+    std::printf("Missing vertices (RMSE over the missing ones):\n\n%s\n", tables.missing.markdown.c_str());
     std::printf("Holes, 12 of radius 0.035 (mean distances removed→out / new→GT):\n\n%s\n",
-                holes_table.markdown.c_str());
-    std::printf("Noise 0.5 × mean edge along the normals (vertex RMSE):\n\n%s", noise_table.markdown.c_str());
+                tables.holes.markdown.c_str());
+    std::printf("Noise 0.5 × mean edge along the normals (vertex RMSE):\n\n%s", tables.noise.markdown.c_str());
     if (!csv_path.empty()) {
       std::ofstream file(csv_path);
-      file << csv;
+      file << tables.csv;
       if (!file)
         throw Error("cannot write '" + csv_path + "'");
     }

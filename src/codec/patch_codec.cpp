@@ -243,27 +243,9 @@ void addCoveragePatches(const TriangleMesh& surface, const PatchDictionary& dict
   }
 }
 
-}  // namespace
-
-std::size_t PatchCodec::Report::patchEntities() const
+/** Refuses parameters the format or the dictionary cannot hold. */
+void checkParameters(const PatchCodecParameters& p, int grid, int atoms)
 {
-  return nonzeros + quad_vertices + 4 * quad_faces + 2 * coverage_patches;
-}
-
-std::size_t meshEntities(const TriangleMesh& mesh) { return 3 * mesh.faces.size() + mesh.vertices.size(); }
-
-void PatchCodec::requireDictionary() const
-{
-  if (!dictionary_ || dictionary_->empty())
-    throw Error("the codec needs a patch dictionary (the one the receiver holds)");
-}
-
-std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
-{
-  requireDictionary();
-  const PatchCodecParameters& p = parameters_;
-  const int grid = dictionary_->gridSize();
-  const int atoms = static_cast<int>(dictionary_->atoms().cols());
   if (!(p.quad_length >= 1e-3 && p.quad_length <= 1.0))
     throw Error("codec: the quad length must be in [0.001, 1] (unit-cube units)");
   if (!(p.patch_scale >= 0.5 && p.patch_scale <= 4.0))
@@ -291,15 +273,12 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
     throw Error("codec: the coverage tolerance must be in [0, 10] (quad lengths; 0: no coverage patches)");
   if (!(p.coverage_budget >= 0.0 && p.coverage_budget <= 10.0))
     throw Error("codec: the coverage budget must be in [0, 10] (coverage patches per quad patch)");
-  if (mesh.faces.empty())
-    throw Error("codec: the input has no faces (compression works on meshes)");
-  Report local;
-  auto t = Clock::now();
+}
 
-  TriangleMesh surface = mesh;
-  const UnitCubeNormalization normalization = UnitCubeNormalization::fromMesh(surface);
-  normalization.apply(surface);
-
+/** The quad layout of the smoothed surface, its vertices numbered by first use (and projected
+  * onto the surface when asked). */
+QuadMesh codecQuadMesh(const TriangleMesh& surface, const PatchCodecParameters& p)
+{
   CoarseMeshEstimation coarse;
   coarse.setIterations(p.smoothing_iterations);
   coarse.setMethod(CoarseMeshEstimation::Method::Laplacian);
@@ -321,16 +300,24 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
   }
   renumberByFirstUse(quads.faces, quads.vertices);
   quads.normals.clear();
-  const PointToMeshDistance to_surface(surface);
-  if (p.project_quads)
+  if (p.project_quads) {
+    const PointToMeshDistance to_surface(surface);
     for (auto& v : quads.vertices)
       v = to_surface.query(v).closest_point;
+  }
+  return quads;
+}
 
+/** The file's header fields and its quantised quad mesh. */
+detail::PdcContent headerContent(const PatchDictionary& dictionary, const PatchCodecParameters& p,
+                                 const UnitCubeNormalization& normalization, const QuadMesh& quads)
+{
+  const int grid = dictionary.gridSize();
   detail::PdcContent c;
-  c.fingerprint = dictionary_->fingerprint();
+  c.fingerprint = dictionary.fingerprint();
   c.grid_size = static_cast<std::uint32_t>(grid);
-  c.num_atoms = static_cast<std::uint32_t>(atoms);
-  c.remove_mean = dictionary_->getRemoveMean();
+  c.num_atoms = static_cast<std::uint32_t>(dictionary.atoms().cols());
+  c.remove_mean = dictionary.getRemoveMean();
   c.keep_connectivity = p.keep_connectivity;
   c.quad_length = p.quad_length;
   c.radius = p.patch_scale * p.quad_length / std::sqrt(2.0);
@@ -341,10 +328,116 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
   c.position_bits = static_cast<std::uint32_t>(p.position_bits);
   c.subdivision = static_cast<std::uint32_t>(p.subdivision > 0 ? p.subdivision : std::max(1, grid / 2));
   c.location_bits = p.keep_connectivity ? static_cast<std::uint32_t>(p.location_bits) : 0;
-  const double position_scale = gridScale(c.position_bits);
   for (const auto& v : quads.vertices)
     c.quad_positions.push_back(quantisePosition(v, c.position_bits));
   c.quad_faces = quads.faces;
+  return c;
+}
+
+/** Quantises the codes into `c`. The quantiser's range is the 99th percentile of |coefficient|,
+  * not the largest: one patch over a sharp crease must not coarsen every other patch's step. Larger
+  * values still fit (the byte planes hold 16 bits), at a step no finer than the largest value
+  * allows. */
+void quantiseCodes(const PatchCodes& codes, int coefficient_bits, int grid, detail::PdcContent& c)
+{
+  std::vector<double> magnitudes;
+  for (Eigen::Index k = 0; k < codes.coefficients.outerSize(); ++k)
+    for (SparseCodes::InnerIterator it(codes.coefficients, k); it; ++it)
+      magnitudes.push_back(std::abs(it.value()));
+  double range = 0.0, largest = 0.0;
+  if (!magnitudes.empty()) {
+    largest = *std::max_element(magnitudes.begin(), magnitudes.end());
+    const auto at = magnitudes.begin() + static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(magnitudes.size() - 1));
+    std::nth_element(magnitudes.begin(), at, magnitudes.end());
+    range = *at;
+  }
+  const double levels = std::ldexp(1.0, coefficient_bits - 1) - 1.0;
+  c.coefficient_step = range > 0 ? std::max(range / levels, largest / 32767.0) : 1.0;
+  c.mean_step = c.coefficient_step / grid;  // a mean offset over N² bins weighs N × its value
+  appendQuantisedCodes(codes, c);
+}
+
+/** Kept connectivity: each surface vertex's place on the fanned quad mesh, as a triangle and
+  * quantised barycentrics. */
+void placeVertices(const TriangleMesh& surface, const QuadMesh& quads, detail::PdcContent& c)
+{
+  const TriangleMesh fan = fanTriangles(quads);
+  const PointToMeshDistance to_quads(fan);
+  const double location_scale = gridScale(c.location_bits);
+  c.faces = surface.faces;
+  c.places.resize(surface.vertices.size());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::ptrdiff_t v = 0; v < static_cast<std::ptrdiff_t>(surface.vertices.size()); ++v) {
+    const auto hit = to_quads.query(surface.vertices[static_cast<std::size_t>(v)]);
+    const Face& f = fan.faces[static_cast<std::size_t>(hit.face)];
+    const Eigen::Vector3d a = fan.vertices[static_cast<std::size_t>(f[0])];
+    const Eigen::Vector3d e1 = fan.vertices[static_cast<std::size_t>(f[1])] - a;
+    const Eigen::Vector3d e2 = fan.vertices[static_cast<std::size_t>(f[2])] - a;
+    // Barycentrics of the closest point (least squares: robust for thin triangles).
+    Eigen::Matrix<double, 3, 2> basis;
+    basis << e1, e2;
+    Eigen::Vector2d w = basis.colPivHouseholderQr().solve(hit.closest_point - a);
+    w = w.cwiseMax(0.0);
+    if (w.sum() > 1.0)
+      w /= w.sum();
+    detail::VertexPlace& place = c.places[static_cast<std::size_t>(v)];
+    place.triangle = hit.face;
+    place.u = static_cast<std::uint32_t>(std::lround(w[0] * location_scale));
+    place.v = static_cast<std::uint32_t>(std::lround(w[1] * location_scale));
+    if (place.u + place.v > location_scale)
+      place.v = static_cast<std::uint32_t>(location_scale) - place.u;
+  }
+}
+
+/** The report's byte counts, from the writer's. */
+void reportSizes(const detail::PdcSizes& sizes, PatchCodec::Report& local)
+{
+  local.header_bytes = sizes.header + 8;  // + checksum
+  local.quad_vertex_bytes = sizes.quad_vertices;
+  local.quad_face_bytes = sizes.quad_faces;
+  local.offset_bytes = sizes.offsets;
+  local.atom_bytes = sizes.atoms;
+  local.coefficient_bytes = sizes.coefficients;
+  local.mean_bytes = sizes.means;
+  local.mask_bytes = sizes.masks;
+  local.connectivity_bytes = sizes.connectivity;
+  local.coverage_bytes = sizes.coverage;
+  local.total_bytes = sizes.total;
+}
+
+}  // namespace
+
+std::size_t PatchCodec::Report::patchEntities() const
+{
+  return nonzeros + quad_vertices + 4 * quad_faces + 2 * coverage_patches;
+}
+
+std::size_t meshEntities(const TriangleMesh& mesh) { return 3 * mesh.faces.size() + mesh.vertices.size(); }
+
+void PatchCodec::requireDictionary() const
+{
+  if (!dictionary_ || dictionary_->empty())
+    throw Error("the codec needs a patch dictionary (the one the receiver holds)");
+}
+
+std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
+{
+  requireDictionary();
+  const PatchCodecParameters& p = parameters_;
+  const int grid = dictionary_->gridSize();
+  const int atoms = static_cast<int>(dictionary_->atoms().cols());
+  checkParameters(p, grid, atoms);
+  if (mesh.faces.empty())
+    throw Error("codec: the input has no faces (compression works on meshes)");
+  Report local;
+  auto t = Clock::now();
+
+  TriangleMesh surface = mesh;
+  const UnitCubeNormalization normalization = UnitCubeNormalization::fromMesh(surface);
+  normalization.apply(surface);
+  QuadMesh quads = codecQuadMesh(surface, p);
+  detail::PdcContent c = headerContent(*dictionary_, p, normalization, quads);
+  const double position_scale = gridScale(c.position_bits);
   // From here on, the encoder sees exactly what the decoder will.
   quads = rebuildQuadMesh(c);
   PatchSet patches;
@@ -378,24 +471,7 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
   const PatchCodes codes = p.atom_cost > 0.0 ? allocatedCodes(*dictionary_, sampled.heights, sampled.observed, p)
                                              : dictionary_->encodeMasked(sampled.heights, sampled.observed,
                                                                          codingParameters(p, p.coefficients));
-  // The quantiser's range is the 99th percentile of |coefficient|, not the largest: one patch over
-  // a sharp crease must not coarsen every other patch's step. Larger values still fit (the byte
-  // planes hold 16 bits), at a step no finer than the largest value allows.
-  std::vector<double> magnitudes;
-  for (Eigen::Index k = 0; k < codes.coefficients.outerSize(); ++k)
-    for (SparseCodes::InnerIterator it(codes.coefficients, k); it; ++it)
-      magnitudes.push_back(std::abs(it.value()));
-  double range = 0.0, largest = 0.0;
-  if (!magnitudes.empty()) {
-    largest = *std::max_element(magnitudes.begin(), magnitudes.end());
-    const auto at = magnitudes.begin() + static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(magnitudes.size() - 1));
-    std::nth_element(magnitudes.begin(), at, magnitudes.end());
-    range = *at;
-  }
-  const double levels = std::ldexp(1.0, p.coefficient_bits - 1) - 1.0;
-  c.coefficient_step = range > 0 ? std::max(range / levels, largest / 32767.0) : 1.0;
-  c.mean_step = c.coefficient_step / grid;  // a mean offset over N² bins weighs N × its value
-  appendQuantisedCodes(codes, c);
+  quantiseCodes(codes, p.coefficient_bits, grid, c);
   if (!sampled.observed.all())
     c.observed = sampled.observed;
   local.seconds_coding = since(t);
@@ -405,35 +481,8 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
     local.seconds_coverage = since(t);
   }
   t = Clock::now();
-
-  if (p.keep_connectivity) {
-    const TriangleMesh fan = fanTriangles(quads);
-    const PointToMeshDistance to_quads(fan);
-    const double location_scale = gridScale(c.location_bits);
-    c.faces = surface.faces;
-    c.places.resize(surface.vertices.size());
-#pragma omp parallel for schedule(dynamic, 256)
-    for (std::ptrdiff_t v = 0; v < static_cast<std::ptrdiff_t>(surface.vertices.size()); ++v) {
-      const auto hit = to_quads.query(surface.vertices[static_cast<std::size_t>(v)]);
-      const Face& f = fan.faces[static_cast<std::size_t>(hit.face)];
-      const Eigen::Vector3d a = fan.vertices[static_cast<std::size_t>(f[0])];
-      const Eigen::Vector3d e1 = fan.vertices[static_cast<std::size_t>(f[1])] - a;
-      const Eigen::Vector3d e2 = fan.vertices[static_cast<std::size_t>(f[2])] - a;
-      // Barycentrics of the closest point (least squares: robust for thin triangles).
-      Eigen::Matrix<double, 3, 2> basis;
-      basis << e1, e2;
-      Eigen::Vector2d w = basis.colPivHouseholderQr().solve(hit.closest_point - a);
-      w = w.cwiseMax(0.0);
-      if (w.sum() > 1.0)
-        w /= w.sum();
-      detail::VertexPlace& place = c.places[static_cast<std::size_t>(v)];
-      place.triangle = hit.face;
-      place.u = static_cast<std::uint32_t>(std::lround(w[0] * location_scale));
-      place.v = static_cast<std::uint32_t>(std::lround(w[1] * location_scale));
-      if (place.u + place.v > location_scale)
-        place.v = static_cast<std::uint32_t>(location_scale) - place.u;
-    }
-  }
+  if (p.keep_connectivity)
+    placeVertices(surface, quads, c);
 
   detail::PdcSizes sizes;
   std::string bytes = detail::writePdc(c, &sizes);
@@ -444,17 +493,7 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
     const auto quad_patches = static_cast<Eigen::Index>(sampled.numPatches());
     local.patch_rmse = observedRMSE(dictionary_->decode(quantised).leftCols(quad_patches), sampled.heights,
                                     sampled.observed);
-    local.header_bytes = sizes.header + 8;  // + checksum
-    local.quad_vertex_bytes = sizes.quad_vertices;
-    local.quad_face_bytes = sizes.quad_faces;
-    local.offset_bytes = sizes.offsets;
-    local.atom_bytes = sizes.atoms;
-    local.coefficient_bytes = sizes.coefficients;
-    local.mean_bytes = sizes.means;
-    local.mask_bytes = sizes.masks;
-    local.connectivity_bytes = sizes.connectivity;
-    local.coverage_bytes = sizes.coverage;
-    local.total_bytes = sizes.total;
+    reportSizes(sizes, local);
     describeContent(c, quantised, local);
     *report = local;
   }

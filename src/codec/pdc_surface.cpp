@@ -143,6 +143,48 @@ void describeContent(const PdcContent& c, const PatchCodes& codes, PatchCodec::R
   report.coefficient_step = c.coefficient_step;
 }
 
+namespace {
+
+/** The mesh the patches are reconstructed on: the kept connectivity, its vertices placed on the
+  * fanned quad mesh, or the subdivided quad mesh. */
+TriangleMesh targetMesh(const PdcContent& c, const QuadMesh& quads, const std::string& what)
+{
+  TriangleMesh target;
+  if (c.keep_connectivity) {
+    const TriangleMesh fan = fanTriangles(quads);
+    const double location_scale = gridScale(c.location_bits);
+    target.vertices.reserve(c.places.size());
+    for (const VertexPlace& place : c.places) {
+      if (place.triangle >= static_cast<std::int32_t>(fan.faces.size()))
+        throw Error(what + "a vertex place refers to a missing quad triangle (the file is corrupted)");
+      const Face& f = fan.faces[static_cast<std::size_t>(place.triangle)];
+      const Eigen::Vector3d a = fan.vertices[static_cast<std::size_t>(f[0])];
+      target.vertices.push_back(a + (fan.vertices[static_cast<std::size_t>(f[1])] - a) * (place.u / location_scale) +
+                                (fan.vertices[static_cast<std::size_t>(f[2])] - a) * (place.v / location_scale));
+    }
+    target.faces = c.faces;
+  } else {
+    target = subdivideQuadMesh(quads, static_cast<int>(c.subdivision));
+  }
+  return target;
+}
+
+/** Appends the pieces of the coverage patches (those after the first `num_quad_patches`). */
+void appendCoveragePieces(const PatchSet& patches, std::size_t num_quad_patches, TriangleMesh& decoded)
+{
+  const int grid = patches.grid_size;
+  const std::size_t bins = static_cast<std::size_t>(grid) * static_cast<std::size_t>(grid);
+  for (std::size_t q = num_quad_patches; q < patches.seeds.size(); ++q) {
+    const auto column = static_cast<Eigen::Index>(q);
+    std::vector<char> kept(bins);
+    for (std::size_t b = 0; b < bins; ++b)
+      kept[b] = patches.observed(static_cast<Eigen::Index>(b), column) ? 1 : 0;
+    const Eigen::VectorXd heights = patches.heights.col(column);
+    appendCoveragePiece(patches.seeds[q], patches.rotations[q], patches.side(), grid, heights, kept, decoded);
+  }
+}
+}  // namespace
+
 /** The unit-cube surface a .pdc content stands for — what the decoder outputs before the
   * normalisation is undone, and what the encoder checks its coverage against: the quad mesh's
   * patches reconstructed on the subdivided quad mesh (trimmed where no surface was seen) or on the
@@ -191,23 +233,7 @@ TriangleMesh decodeSurface(const PdcContent& c, const PatchDictionary& dictionar
   report.seconds_coding = since(t);
 
   t = Clock::now();
-  TriangleMesh target;
-  if (c.keep_connectivity) {
-    const TriangleMesh fan = fanTriangles(quads);
-    const double location_scale = gridScale(c.location_bits);
-    target.vertices.reserve(c.places.size());
-    for (const VertexPlace& place : c.places) {
-      if (place.triangle >= static_cast<std::int32_t>(fan.faces.size()))
-        throw Error(what + "a vertex place refers to a missing quad triangle (the file is corrupted)");
-      const Face& f = fan.faces[static_cast<std::size_t>(place.triangle)];
-      const Eigen::Vector3d a = fan.vertices[static_cast<std::size_t>(f[0])];
-      target.vertices.push_back(a + (fan.vertices[static_cast<std::size_t>(f[1])] - a) * (place.u / location_scale) +
-                                (fan.vertices[static_cast<std::size_t>(f[2])] - a) * (place.v / location_scale));
-    }
-    target.faces = c.faces;
-  } else {
-    target = subdivideQuadMesh(quads, static_cast<int>(c.subdivision));
-  }
+  const TriangleMesh target = targetMesh(c, quads, what);
   // The quad mesh's surface comes from its own patches; coverage patches only add their pieces.
   PatchSet quad_patches;
   const PatchSet* reconstruct_from = &patches;
@@ -231,17 +257,8 @@ TriangleMesh decodeSurface(const PdcContent& c, const PatchDictionary& dictionar
   decoded.normals.clear();
   if (!c.keep_connectivity)
     trimUnseen(reconstruction_report.off_surface, decoded);
-  const int grid = static_cast<int>(c.grid_size);
-  const std::size_t bins = static_cast<std::size_t>(grid) * static_cast<std::size_t>(grid);
   const std::size_t quad_surface_faces = decoded.faces.size();
-  for (std::size_t q = num_quad_patches; q < num_patches; ++q) {
-    const auto column = static_cast<Eigen::Index>(q);
-    std::vector<char> kept(bins);
-    for (std::size_t b = 0; b < bins; ++b)
-      kept[b] = patches.observed(static_cast<Eigen::Index>(b), column) ? 1 : 0;
-    const Eigen::VectorXd heights = patches.heights.col(column);
-    appendCoveragePiece(patches.seeds[q], patches.rotations[q], patches.side(), grid, heights, kept, decoded);
-  }
+  appendCoveragePieces(patches, num_quad_patches, decoded);
   if (decoded.faces.empty())
     throw Error(what + "the decoded surface is empty (the file is corrupted)");
   report.seconds_reconstruct = since(t);

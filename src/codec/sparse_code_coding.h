@@ -13,7 +13,7 @@ namespace detail {
 
 /** \brief Each patch's atom set as K yes/no decisions, atom k in its own adaptive context: an atom
   * used by a fraction f of the patches costs about H(f) bits per patch, where a K-bit map costs
-  * one (and deflate, on lucy at L 0.045, 6.8 bits per non-zero). `atoms` lists each patch's
+  * one (and deflate several per non-zero). `atoms` lists each patch's
   * indices in increasing order, all below `num_atoms` (else Error). */
 std::string encodeAtomSets(const std::vector<std::vector<std::uint32_t>>& atoms, std::uint32_t num_atoms);
 

@@ -231,39 +231,44 @@ SparseCodes batchOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& g
   return assemble(dictionary.cols(), atoms, coefficients);
 }
 
-SparseCodes maskedOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& signals,
-                      const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>& mask,
-                      const SparseCodingParameters& parameters)
-{
-  checkParameters(parameters);
-  if (signals.rows() != dictionary.rows() || mask.rows() != signals.rows() || mask.cols() != signals.cols())
-    throw Error("masked sparse coding: signals, mask and dictionary sizes do not match");
-  const Eigen::Index count = signals.cols(), num_atoms = dictionary.cols(), n = dictionary.rows();
-  const int max_atoms = std::min<int>(parameters.max_atoms, static_cast<int>(num_atoms));
-  std::vector<std::vector<int>> atoms(static_cast<std::size_t>(count));
-  std::vector<std::vector<double>> coefficients(static_cast<std::size_t>(count));
-  const Eigen::MatrixXd dictionary_t = dictionary.transpose();
+namespace {
 
-  // Signals that share a mask with enough others share one normalised masked Gram matrix.
-  std::map<std::vector<bool>, std::vector<Eigen::Index>> groups;
-  for (Eigen::Index p = 0; p < count; ++p) {
+using Mask = Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>;
+
+/** Per signal: its chosen atoms and their coefficients. */
+struct CodeLists {
+  std::vector<std::vector<int>> atoms;
+  std::vector<std::vector<double>> coefficients;
+};
+
+/** Signals that share a mask with enough others (`threshold`) share one normalised masked Gram
+  * matrix: groups of such signals by mask, and the others ("singles") in index order. */
+void groupByMask(const Mask& mask, std::size_t threshold, std::map<std::vector<bool>, std::vector<Eigen::Index>>& groups,
+                 std::vector<const std::vector<Eigen::Index>*>& shared_groups, std::vector<Eigen::Index>& singles)
+{
+  const Eigen::Index n = mask.rows();
+  for (Eigen::Index p = 0; p < mask.cols(); ++p) {
     std::vector<bool> key(static_cast<std::size_t>(n));
     for (Eigen::Index r = 0; r < n; ++r)
       key[static_cast<std::size_t>(r)] = mask(r, p);
     groups[std::move(key)].push_back(p);
   }
-  const auto shared_gram_threshold = static_cast<std::size_t>(std::max<Eigen::Index>(2, num_atoms / std::max(1, max_atoms)));
-  std::vector<const std::vector<Eigen::Index>*> shared_groups;
-  std::vector<Eigen::Index> singles;
   for (const auto& [key, list] : groups) {
-    if (list.size() >= shared_gram_threshold)
+    if (list.size() >= threshold)
       shared_groups.push_back(&list);
     else
       singles.insert(singles.end(), list.begin(), list.end());
   }
   std::sort(singles.begin(), singles.end());
+}
 
-  // Shared masks: gather the observed rows once per group.
+/** Shared masks: the observed rows gathered, and the normalised masked Gram matrix formed, once
+  * per group. */
+void codeSharedMasks(const Eigen::MatrixXd& dictionary_t, const Eigen::MatrixXd& signals, const Mask& mask,
+                     const std::vector<const std::vector<Eigen::Index>*>& shared_groups,
+                     const SparseCodingParameters& parameters, CodeLists& codes)
+{
+  const Eigen::Index num_atoms = dictionary_t.rows(), n = dictionary_t.cols();
 #pragma omp parallel
   {
     Workspace work;
@@ -300,8 +305,8 @@ SparseCodes maskedOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& 
           observed[i] = signals(rows[i], p);
         correlations.noalias() = masked_t * observed;
         correlations = correlations.cwiseProduct(inverse);
-        auto& chosen = atoms[static_cast<std::size_t>(p)];
-        auto& values = coefficients[static_cast<std::size_t>(p)];
+        auto& chosen = codes.atoms[static_cast<std::size_t>(p)];
+        auto& values = codes.coefficients[static_cast<std::size_t>(p)];
         ompKernel(access, correlations, observed.squaredNorm(), observed_count, parameters, &usable, work, chosen,
                   values);
         for (std::size_t i = 0; i < chosen.size(); ++i)  // back to the un-normalised atoms
@@ -309,9 +314,15 @@ SparseCodes maskedOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& 
       }
     }
   }
+}
 
-  // Masks of their own: correlations Dᵀ(m ⊙ x) and masked norms² (D ⊙ D)ᵀm for a block of signals
-  // by two GEMMs, then Gram columns on demand.
+/** Masks of their own: correlations Dᵀ(m ⊙ x) and masked norms² (D ⊙ D)ᵀm for a block of signals
+  * by two GEMMs, then Gram columns on demand. */
+void codeSingleMasks(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& dictionary_t,
+                     const Eigen::MatrixXd& signals, const Mask& mask, const std::vector<Eigen::Index>& singles,
+                     const SparseCodingParameters& parameters, int max_atoms, CodeLists& codes)
+{
+  const Eigen::Index num_atoms = dictionary.cols(), n = dictionary.rows();
   const Eigen::MatrixXd squared_t = dictionary_t.cwiseAbs2();
   const Eigen::MatrixXd full_gram = singles.empty() ? Eigen::MatrixXd() : Eigen::MatrixXd(dictionary_t * dictionary);
   constexpr std::size_t block = 1024;
@@ -348,8 +359,8 @@ SparseCodes maskedOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& 
             hidden.push_back(r);
         alpha0 = correlations.col(i).cwiseProduct(inverse);
         LazyMaskedGram access(dictionary, dictionary_t, full_gram, hidden, observed, inverse, std::max(1, max_atoms));
-        auto& chosen = atoms[static_cast<std::size_t>(p)];
-        auto& values = coefficients[static_cast<std::size_t>(p)];
+        auto& chosen = codes.atoms[static_cast<std::size_t>(p)];
+        auto& values = codes.coefficients[static_cast<std::size_t>(p)];
         ompKernel(access, alpha0, block_signals.col(i).squaredNorm(), n - static_cast<Eigen::Index>(hidden.size()),
                   parameters, &usable, work, chosen, values);
         for (std::size_t j = 0; j < chosen.size(); ++j)
@@ -357,7 +368,32 @@ SparseCodes maskedOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& 
       }
     }
   }
-  return assemble(num_atoms, atoms, coefficients);
+}
+
+}  // namespace
+
+SparseCodes maskedOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& signals,
+                      const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>& mask,
+                      const SparseCodingParameters& parameters)
+{
+  checkParameters(parameters);
+  if (signals.rows() != dictionary.rows() || mask.rows() != signals.rows() || mask.cols() != signals.cols())
+    throw Error("masked sparse coding: signals, mask and dictionary sizes do not match");
+  const Eigen::Index count = signals.cols(), num_atoms = dictionary.cols();
+  const int max_atoms = std::min<int>(parameters.max_atoms, static_cast<int>(num_atoms));
+  CodeLists codes;
+  codes.atoms.resize(static_cast<std::size_t>(count));
+  codes.coefficients.resize(static_cast<std::size_t>(count));
+  const Eigen::MatrixXd dictionary_t = dictionary.transpose();
+
+  std::map<std::vector<bool>, std::vector<Eigen::Index>> groups;
+  std::vector<const std::vector<Eigen::Index>*> shared_groups;
+  std::vector<Eigen::Index> singles;
+  const auto shared_gram_threshold = static_cast<std::size_t>(std::max<Eigen::Index>(2, num_atoms / std::max(1, max_atoms)));
+  groupByMask(mask, shared_gram_threshold, groups, shared_groups, singles);
+  codeSharedMasks(dictionary_t, signals, mask, shared_groups, parameters, codes);
+  codeSingleMasks(dictionary, dictionary_t, signals, mask, singles, parameters, max_atoms, codes);
+  return assemble(num_atoms, codes.atoms, codes.coefficients);
 }
 
 }  // namespace patchdict

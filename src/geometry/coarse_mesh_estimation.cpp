@@ -7,6 +7,8 @@
 #include <pcl_patchdict/pcl/conversions.h>
 
 #include <pcl/features/normal_3d_omp.h>
+#include <boost/graph/adjacency_list.hpp>
+#include <boost/graph/kruskal_min_spanning_tree.hpp>
 #include <pcl/search/kdtree.h>
 #include <pcl/surface/poisson.h>
 
@@ -254,7 +256,7 @@ int automaticPoissonDepth(const pcl::PointCloud<pcl::PointNormal>& cloud, double
 // (symmetrised) kNN graph with cost 1 − |n_i·n_j|, so that it crosses between nearly parallel
 // tangent planes first; each component's root is its highest point, its normal turned to +z.
 // Points without a normal (zero vector) are passed through at the highest cost and take the mean
-// oriented normal of their neighbours afterwards.
+// oriented normal of their neighbours afterwards. The spanning forest is Boost.Graph's Kruskal.
 std::size_t propagateNormalOrientation(const pcl::PointCloud<pcl::PointXYZ>& cloud, const std::vector<std::vector<int>>& knn,
                                  std::vector<Eigen::Vector3d>& normals)
 {
@@ -270,15 +272,27 @@ std::size_t propagateNormalOrientation(const pcl::PointCloud<pcl::PointXYZ>& clo
   const auto cost = [&](std::size_t a, std::size_t b) {
     return 1.0 - std::abs(normals[a].dot(normals[b]));  // 1 when either normal is missing (zero)
   };
+  using Graph = boost::adjacency_list<boost::vecS, boost::vecS, boost::undirectedS, boost::no_property,
+                                      boost::property<boost::edge_weight_t, double>>;
+  Graph graph(n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (const int j : adjacency[i])
+      if (static_cast<std::size_t>(j) > i)
+        boost::add_edge(i, static_cast<std::size_t>(j), cost(i, static_cast<std::size_t>(j)), graph);
+  std::vector<boost::graph_traits<Graph>::edge_descriptor> forest_edges;
+  boost::kruskal_minimum_spanning_tree(graph, std::back_inserter(forest_edges));
+  std::vector<std::vector<std::size_t>> tree(n);
+  for (const auto& e : forest_edges) {
+    const std::size_t a = boost::source(e, graph), b = boost::target(e, graph);
+    tree[a].push_back(b);
+    tree[b].push_back(a);
+  }
   std::vector<std::size_t> by_height(n);
   std::iota(by_height.begin(), by_height.end(), std::size_t{0});
   std::stable_sort(by_height.begin(), by_height.end(),
                    [&](std::size_t a, std::size_t b) { return cloud[a].z > cloud[b].z; });
   std::vector<char> visited(n, 0);
   std::size_t flipped = 0;
-  // (cost, to, from): ties broken by index, so the tree does not depend on anything but the data.
-  using Entry = std::tuple<double, std::size_t, std::size_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
   for (const std::size_t root : by_height) {
     if (visited[root])
       continue;
@@ -287,22 +301,20 @@ std::size_t propagateNormalOrientation(const pcl::PointCloud<pcl::PointXYZ>& clo
       normals[root] = -normals[root];
       ++flipped;
     }
-    for (const int j : adjacency[root])
-      queue.emplace(cost(root, static_cast<std::size_t>(j)), static_cast<std::size_t>(j), root);
-    while (!queue.empty()) {
-      const auto [unused, to, from] = queue.top();
-      (void)unused;
-      queue.pop();
-      if (visited[to])
-        continue;
-      visited[to] = 1;
-      if (normals[to].dot(normals[from]) < 0.0) {
-        normals[to] = -normals[to];
-        ++flipped;
+    std::vector<std::size_t> stack{root};
+    while (!stack.empty()) {
+      const std::size_t from = stack.back();
+      stack.pop_back();
+      for (const std::size_t to : tree[from]) {
+        if (visited[to])
+          continue;
+        visited[to] = 1;
+        if (normals[to].dot(normals[from]) < 0.0) {
+          normals[to] = -normals[to];
+          ++flipped;
+        }
+        stack.push_back(to);
       }
-      for (const int j : adjacency[to])
-        if (!visited[static_cast<std::size_t>(j)])
-          queue.emplace(cost(to, static_cast<std::size_t>(j)), static_cast<std::size_t>(j), to);
     }
   }
   for (std::size_t i = 0; i < n; ++i) {
@@ -366,30 +378,32 @@ std::size_t estimateOrientedNormals(const pcl::PointCloud<pcl::PointXYZ>& cloud,
   return flipped;
 }
 
-void CoarseMeshEstimation::processCloud(TriangleMesh& out, Report* report) const
-{
-  Report local;
-  Report& r = report ? *report : local;
-  r.from_cloud = true;
+namespace {
 
-  // 1–2. Finite samples with oriented unit normals.
-  auto start = Clock::now();
+using CoarseReport = CoarseMeshEstimation::Report;
+
+/** Finite samples with oriented unit normals: normals estimated and oriented for a plain cloud,
+  * normalised for a cloud with normals; fewer than `minimum` usable points is an Error. */
+pcl::PointCloud<pcl::PointNormal>::Ptr orientedSamples(const pcl::PointCloud<pcl::PointXYZ>::ConstPtr& cloud,
+                                                       const pcl::PointCloud<pcl::PointNormal>::ConstPtr& with_normals,
+                                                       int normal_neighbours, std::size_t minimum, CoarseReport& r)
+{
   pcl::PointCloud<pcl::PointNormal>::Ptr samples(new pcl::PointCloud<pcl::PointNormal>);
-  if (cloud_) {
-    r.input_points = cloud_->size();
+  if (cloud) {
+    r.input_points = cloud->size();
     pcl::PointCloud<pcl::PointXYZ> finite;
-    for (const auto& p : *cloud_)
+    for (const auto& p : *cloud)
       if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
         finite.push_back(p);
     r.points_dropped = r.input_points - finite.size();
-    if (finite.size() < getMinimumPoints())
+    if (finite.size() < minimum)
       throw Error("coarse mesh estimation: the cloud has " + std::to_string(finite.size()) +
-                  " finite points, at least " + std::to_string(getMinimumPoints()) + " are needed");
+                  " finite points, at least " + std::to_string(minimum) + " are needed");
     r.normals_estimated = true;
-    r.normals_flipped = estimateOrientedNormals(finite, normal_neighbours_, *samples, &r.mean_spacing);
+    r.normals_flipped = estimateOrientedNormals(finite, normal_neighbours, *samples, &r.mean_spacing);
   } else {
-    r.input_points = cloud_with_normals_->size();
-    for (const auto& p : *cloud_with_normals_) {
+    r.input_points = with_normals->size();
+    for (const auto& p : *with_normals) {
       const Eigen::Vector3f position = p.getVector3fMap(), normal = p.getNormalVector3fMap();
       if (!position.allFinite() || !normal.allFinite() || !(normal.norm() > 0.0f))
         continue;
@@ -398,19 +412,21 @@ void CoarseMeshEstimation::processCloud(TriangleMesh& out, Report* report) const
       samples->push_back(q);
     }
     r.points_dropped = r.input_points - samples->size();
-    if (samples->size() < getMinimumPoints())
+    if (samples->size() < minimum)
       throw Error("coarse mesh estimation: the cloud has " + std::to_string(samples->size()) +
-                  " points with finite positions and normals, at least " + std::to_string(getMinimumPoints()) +
+                  " points with finite positions and normals, at least " + std::to_string(minimum) +
                   " are needed");
     r.mean_spacing = nearestNeighbours<pcl::PointNormal>(samples, 1).mean_spacing;
   }
   if (!(r.mean_spacing > 0.0))
     throw Error("coarse mesh estimation: the cloud's points are all at one place");
-  r.seconds_normals = secondsSince(start);
+  return samples;
+}
 
-  // 3. Poisson surface.
-  start = Clock::now();
-  r.poisson_depth = poisson_depth_ > 0 ? poisson_depth_ : automaticPoissonDepth(*samples, r.mean_spacing);
+/** Poisson surface of the samples (PCL), its diagnostics muted. */
+TriangleMesh poissonSurface(const pcl::PointCloud<pcl::PointNormal>::Ptr& samples, int depth, CoarseReport& r)
+{
+  r.poisson_depth = depth > 0 ? depth : automaticPoissonDepth(*samples, r.mean_spacing);
   pcl::Poisson<pcl::PointNormal> poisson;
   poisson.setInputCloud(samples);
   poisson.setDepth(r.poisson_depth);
@@ -432,20 +448,23 @@ void CoarseMeshEstimation::processCloud(TriangleMesh& out, Report* report) const
   if (mesh.faces.empty())
     throw Error("coarse mesh estimation: Poisson reconstruction produced no surface from the cloud");
   r.area_before_trimming = mesh.surfaceArea();
-  r.seconds_poisson = secondsSince(start);
+  return mesh;
+}
 
-  // 4. Trimming, orientation, cleanup.
-  start = Clock::now();
+/** Flags the faces whose centroid is farther than `limit` from every sample (none when
+  * trim_factor ≤ 0) and records each face's nearest sample. */
+void flagFarFaces(const TriangleMesh& mesh, const pcl::PointCloud<pcl::PointNormal>& samples, double trim_factor,
+                  double limit, std::vector<char>& keep, std::vector<int>& nearest_sample)
+{
   pcl::PointCloud<pcl::PointXYZ>::Ptr positions(new pcl::PointCloud<pcl::PointXYZ>);
-  positions->resize(samples->size());
-  for (std::size_t i = 0; i < samples->size(); ++i)
-    (*positions)[i].getVector3fMap() = (*samples)[i].getVector3fMap();
+  positions->resize(samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    (*positions)[i].getVector3fMap() = samples[i].getVector3fMap();
   pcl::search::KdTree<pcl::PointXYZ> tree(false);
   tree.setInputCloud(positions);
-  const double limit = trim_factor_ * r.mean_spacing;
   const auto num_faces = static_cast<std::ptrdiff_t>(mesh.faces.size());
-  std::vector<char> keep(mesh.faces.size(), 1);
-  std::vector<int> nearest_sample(mesh.faces.size(), 0);
+  keep.assign(mesh.faces.size(), 1);
+  nearest_sample.assign(mesh.faces.size(), 0);
 #pragma omp parallel
   {
     pcl::Indices index(1);
@@ -461,10 +480,62 @@ void CoarseMeshEstimation::processCloud(TriangleMesh& out, Report* report) const
       if (tree.nearestKSearch(query, 1, index, squared) < 1)
         continue;
       nearest_sample[static_cast<std::size_t>(f)] = index[0];
-      if (trim_factor_ > 0.0 && std::sqrt(static_cast<double>(squared[0])) > limit)
+      if (trim_factor > 0.0 && std::sqrt(static_cast<double>(squared[0])) > limit)
         keep[static_cast<std::size_t>(f)] = 0;
     }
   }
+}
+
+/** Turns each connected component to agree (area-weighted) with the normals of its faces' nearest
+  * samples: marching cubes orients its triangles consistently, but which way depends on the sign
+  * convention. */
+void orientComponentsBySamples(TriangleMesh& trimmed, const pcl::PointCloud<pcl::PointNormal>& samples,
+                               const std::vector<int>& kept_nearest)
+{
+  orientFacesConsistently(trimmed);
+  std::vector<int> face_component, vertex_component;
+  const int components = computeConnectedComponents(trimmed, face_component, vertex_component);
+  std::vector<double> agreement(static_cast<std::size_t>(std::max(components, 0)), 0.0);
+  for (std::size_t f = 0; f < trimmed.faces.size(); ++f) {
+    const Face& face = trimmed.faces[f];
+    const Eigen::Vector3d a = trimmed.vertices[static_cast<std::size_t>(face[0])],
+                          b = trimmed.vertices[static_cast<std::size_t>(face[1])],
+                          c = trimmed.vertices[static_cast<std::size_t>(face[2])];
+    const Eigen::Vector3d area_normal = (b - a).cross(c - a);
+    const Eigen::Vector3d sample_normal =
+        samples[static_cast<std::size_t>(kept_nearest[f])].getNormalVector3fMap().cast<double>();
+    if (face_component[f] >= 0)
+      agreement[static_cast<std::size_t>(face_component[f])] += area_normal.dot(sample_normal);
+  }
+  for (std::size_t f = 0; f < trimmed.faces.size(); ++f)
+    if (face_component[f] >= 0 && agreement[static_cast<std::size_t>(face_component[f])] < 0.0)
+      std::swap(trimmed.faces[f][1], trimmed.faces[f][2]);
+}
+
+}  // namespace
+
+void CoarseMeshEstimation::processCloud(TriangleMesh& out, Report* report) const
+{
+  Report local;
+  Report& r = report ? *report : local;
+  r.from_cloud = true;
+
+  // 1–2. Finite samples with oriented unit normals.
+  auto start = Clock::now();
+  const pcl::PointCloud<pcl::PointNormal>::Ptr samples =
+      orientedSamples(cloud_, cloud_with_normals_, normal_neighbours_, getMinimumPoints(), r);
+  r.seconds_normals = secondsSince(start);
+
+  // 3. Poisson surface.
+  start = Clock::now();
+  TriangleMesh mesh = poissonSurface(samples, poisson_depth_, r);
+  r.seconds_poisson = secondsSince(start);
+
+  // 4. Trimming, orientation, cleanup.
+  start = Clock::now();
+  std::vector<char> keep;
+  std::vector<int> nearest_sample;
+  flagFarFaces(mesh, *samples, trim_factor_, trim_factor_ * r.mean_spacing, keep, nearest_sample);
   // Far faces are gaps in the sampling when they come alone or in small groups (random samples
   // leave holes up to ~4 mean spacings wide, measured), a bubble or a skirt when they form a large
   // connected region: only regions of at least min_trimmed_region_ faces are removed.
@@ -488,27 +559,7 @@ void CoarseMeshEstimation::processCloud(TriangleMesh& out, Report* report) const
   r.faces_trimmed = mesh.faces.size() - trimmed.faces.size();
   if (trimmed.faces.empty())
     throw Error("coarse mesh estimation: trimming removed the whole Poisson surface (trim factor too small?)");
-
-  // Marching cubes orients its triangles consistently, but which way depends on the sign
-  // convention; each component is turned to agree (area-weighted) with the input normals.
-  orientFacesConsistently(trimmed);
-  std::vector<int> face_component, vertex_component;
-  const int components = computeConnectedComponents(trimmed, face_component, vertex_component);
-  std::vector<double> agreement(static_cast<std::size_t>(std::max(components, 0)), 0.0);
-  for (std::size_t f = 0; f < trimmed.faces.size(); ++f) {
-    const Face& face = trimmed.faces[f];
-    const Eigen::Vector3d a = trimmed.vertices[static_cast<std::size_t>(face[0])],
-                          b = trimmed.vertices[static_cast<std::size_t>(face[1])],
-                          c = trimmed.vertices[static_cast<std::size_t>(face[2])];
-    const Eigen::Vector3d area_normal = (b - a).cross(c - a);
-    const Eigen::Vector3d sample_normal =
-        (*samples)[static_cast<std::size_t>(kept_nearest[f])].getNormalVector3fMap().cast<double>();
-    if (face_component[f] >= 0)
-      agreement[static_cast<std::size_t>(face_component[f])] += area_normal.dot(sample_normal);
-  }
-  for (std::size_t f = 0; f < trimmed.faces.size(); ++f)
-    if (face_component[f] >= 0 && agreement[static_cast<std::size_t>(face_component[f])] < 0.0)
-      std::swap(trimmed.faces[f][1], trimmed.faces[f][2]);
+  orientComponentsBySamples(trimmed, *samples, kept_nearest);
   cleanMesh(trimmed);
   r.faces_after_cleanup = trimmed.faces.size();
   if (trimmed.faces.empty())

@@ -42,6 +42,103 @@ double mixedArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen
   return 0.125 * ((b - a).squaredNorm() * cotangent(c, a, b) + (c - a).squaredNorm() * cotangent(b, a, c));
 }
 
+/** Local numbering: the free vertices first, then the rings around them up to distance
+  * continuity + 1 (the Laplacian is needed at distance ≤ k, positions at ≤ k + 1). Returns how
+  * many local vertices need a Laplacian row. */
+std::size_t numberRings(const TriangleMesh& mesh, const std::vector<std::vector<std::int32_t>>& vertex_faces,
+                        const std::vector<std::int32_t>& free, int continuity, std::vector<int>& local,
+                        std::vector<std::int32_t>& order)
+{
+  local.assign(mesh.vertices.size(), -1);
+  for (const std::int32_t v : free) {
+    local[v] = static_cast<int>(order.size());
+    order.push_back(v);
+  }
+  std::size_t ring_begin = 0, laplacian_rows = 0;
+  for (int level = 0; level <= continuity; ++level) {
+    const std::size_t ring_end = order.size();
+    laplacian_rows = ring_end;
+    for (std::size_t i = ring_begin; i < ring_end; ++i)
+      for (const std::int32_t f : vertex_faces[order[i]])
+        for (const std::int32_t w : mesh.faces[f])
+          if (local[w] < 0) {
+            local[w] = static_cast<int>(order.size());
+            order.push_back(w);
+          }
+    ring_begin = ring_end;
+  }
+  return laplacian_rows;
+}
+
+/** The first `rows` rows of L = D⁻¹W over the local vertices (cotangent or uniform weights), and
+  * each row's area D. */
+void laplacianRows(const TriangleMesh& mesh, const std::vector<std::vector<std::int32_t>>& vertex_faces,
+                   const std::vector<std::int32_t>& order, const std::vector<int>& local, std::size_t rows,
+                   FairingWeights weights, std::vector<Eigen::Triplet<double>>& triplets,
+                   std::vector<double>& row_area)
+{
+  row_area.assign(rows, 1.0);
+  for (std::size_t i = 0; i < rows; ++i) {
+    const std::int32_t v = order[i];
+    const Eigen::Vector3d& p = mesh.vertices[v];
+    std::vector<std::pair<int, double>> row;
+    double area = 0.0;
+    for (const std::int32_t f : vertex_faces[v]) {
+      const Face& t = mesh.faces[f];
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
+        continue;
+      int corner = 0;
+      while (t[corner] != v)
+        ++corner;
+      const std::int32_t a = t[(corner + 1) % 3], b = t[(corner + 2) % 3];
+      if (weights == FairingWeights::Uniform) {
+        row.emplace_back(local[a], 1.0);
+        row.emplace_back(local[b], 1.0);
+        continue;
+      }
+      const Eigen::Vector3d &pa = mesh.vertices[a], &pb = mesh.vertices[b];
+      row.emplace_back(local[b], 0.5 * cotangent(pa, p, pb));
+      row.emplace_back(local[a], 0.5 * cotangent(pb, p, pa));
+      area += mixedArea(p, pa, pb);
+    }
+    if (weights == FairingWeights::Uniform) {
+      // Each neighbour counts once, however many faces it shares with v.
+      std::sort(row.begin(), row.end());
+      row.erase(std::unique(row.begin(), row.end()), row.end());
+      area = static_cast<double>(row.size());
+    }
+    if (!(area > 0.0))
+      area = 1.0;
+    row_area[i] = area;
+    double diagonal = 0.0;
+    for (const auto& [column, weight] : row) {
+      triplets.emplace_back(static_cast<int>(i), column, weight / area);
+      diagonal -= weight / area;
+    }
+    triplets.emplace_back(static_cast<int>(i), static_cast<int>(i), diagonal);
+  }
+}
+
+/** Solves A x = rhs by sparse Cholesky (LDLᵀ), or by sparse LU when A is not (numerically)
+  * symmetric definite, e.g. a degenerate region. False when neither gives a finite solution. */
+bool solveSparse(const Eigen::SparseMatrix<double>& a, const Eigen::MatrixX3d& rhs, Eigen::MatrixX3d& solution)
+{
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> cholesky(a);
+  if (cholesky.info() == Eigen::Success)
+    solution = cholesky.solve(rhs);
+  if (cholesky.info() != Eigen::Success || !solution.allFinite()) {
+    Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
+    lu.analyzePattern(a);
+    lu.factorize(a);
+    if (lu.info() != Eigen::Success)
+      return false;
+    solution = lu.solve(rhs);
+    if (lu.info() != Eigen::Success || !solution.allFinite())
+      return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 bool fairVertices(TriangleMesh& mesh, const std::vector<std::int32_t>& free_vertices, const FairingOptions& options,
@@ -65,72 +162,17 @@ bool fairVertices(TriangleMesh& mesh, const std::vector<std::int32_t>& free_vert
     return true;
   }
 
-  // Rings around the free set: the Laplacian is needed at distance ≤ k, positions at ≤ k + 1.
   const auto vertex_faces = computeVertexFaces(mesh);
-  std::vector<int> local(n, -1);
+  std::vector<int> local;
   std::vector<std::int32_t> order;  // local index → global
-  for (const std::int32_t v : free) {
-    local[v] = static_cast<int>(order.size());
-    order.push_back(v);
-  }
-  std::size_t ring_begin = 0, laplacian_rows = 0;
-  for (int level = 0; level <= options.continuity; ++level) {
-    const std::size_t ring_end = order.size();
-    laplacian_rows = ring_end;
-    for (std::size_t i = ring_begin; i < ring_end; ++i)
-      for (const std::int32_t f : vertex_faces[order[i]])
-        for (const std::int32_t w : mesh.faces[f])
-          if (local[w] < 0) {
-            local[w] = static_cast<int>(order.size());
-            order.push_back(w);
-          }
-    ring_begin = ring_end;
-  }
+  const std::size_t laplacian_rows = numberRings(mesh, vertex_faces, free, options.continuity, local, order);
   const std::size_t m = order.size();
   out_report.fixed_vertices_used = m - free.size();
 
   // L over the local vertices; only the first laplacian_rows rows are filled.
   std::vector<Eigen::Triplet<double>> triplets;
-  std::vector<double> row_area(laplacian_rows, 1.0);
-  for (std::size_t i = 0; i < laplacian_rows; ++i) {
-    const std::int32_t v = order[i];
-    const Eigen::Vector3d& p = mesh.vertices[v];
-    std::vector<std::pair<int, double>> row;
-    double area = 0.0;
-    for (const std::int32_t f : vertex_faces[v]) {
-      const Face& t = mesh.faces[f];
-      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
-        continue;
-      int corner = 0;
-      while (t[corner] != v)
-        ++corner;
-      const std::int32_t a = t[(corner + 1) % 3], b = t[(corner + 2) % 3];
-      if (options.weights == FairingWeights::Uniform) {
-        row.emplace_back(local[a], 1.0);
-        row.emplace_back(local[b], 1.0);
-        continue;
-      }
-      const Eigen::Vector3d &pa = mesh.vertices[a], &pb = mesh.vertices[b];
-      row.emplace_back(local[b], 0.5 * cotangent(pa, p, pb));
-      row.emplace_back(local[a], 0.5 * cotangent(pb, p, pa));
-      area += mixedArea(p, pa, pb);
-    }
-    if (options.weights == FairingWeights::Uniform) {
-      // Each neighbour counts once, however many faces it shares with v.
-      std::sort(row.begin(), row.end());
-      row.erase(std::unique(row.begin(), row.end()), row.end());
-      area = static_cast<double>(row.size());
-    }
-    if (!(area > 0.0))
-      area = 1.0;
-    row_area[i] = area;
-    double diagonal = 0.0;
-    for (const auto& [column, weight] : row) {
-      triplets.emplace_back(static_cast<int>(i), column, weight / area);
-      diagonal -= weight / area;
-    }
-    triplets.emplace_back(static_cast<int>(i), static_cast<int>(i), diagonal);
-  }
+  std::vector<double> row_area;
+  laplacianRows(mesh, vertex_faces, order, local, laplacian_rows, options.weights, triplets, row_area);
   using SparseMatrix = Eigen::SparseMatrix<double>;
   SparseMatrix laplacian(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
   laplacian.setFromTriplets(triplets.begin(), triplets.end());
@@ -153,22 +195,9 @@ bool fairVertices(TriangleMesh& mesh, const std::vector<std::int32_t>& free_vert
     fixed_positions.row(static_cast<Eigen::Index>(i) - free_count) = mesh.vertices[order[i]].transpose();
   const SparseMatrix unknown_part = system.leftCols(free_count);
   const Eigen::MatrixX3d rhs = -(system.rightCols(static_cast<Eigen::Index>(m) - free_count) * fixed_positions);
-
   Eigen::MatrixX3d solution;
-  Eigen::SimplicialLDLT<SparseMatrix> cholesky(unknown_part);
-  if (cholesky.info() == Eigen::Success)
-    solution = cholesky.solve(rhs);
-  if (cholesky.info() != Eigen::Success || !solution.allFinite()) {
-    // Not (numerically) symmetric definite, e.g. a degenerate region: the general solver.
-    Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> lu;
-    lu.analyzePattern(unknown_part);
-    lu.factorize(unknown_part);
-    if (lu.info() != Eigen::Success)
-      return false;
-    solution = lu.solve(rhs);
-    if (lu.info() != Eigen::Success || !solution.allFinite())
-      return false;
-  }
+  if (!solveSparse(unknown_part, rhs, solution))
+    return false;
   for (std::size_t i = 0; i < free.size(); ++i)
     mesh.vertices[free[i]] = solution.row(static_cast<Eigen::Index>(i)).transpose();
   out_report.solved = true;

@@ -14,24 +14,6 @@ namespace patchdict {
 
 namespace {
 
-std::uint32_t crc32(const std::uint8_t* data, std::size_t size, std::uint32_t crc = 0)
-{
-  static const std::array<std::uint32_t, 256> table = [] {
-    std::array<std::uint32_t, 256> t{};
-    for (std::uint32_t n = 0; n < 256; ++n) {
-      std::uint32_t c = n;
-      for (int k = 0; k < 8; ++k)
-        c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-      t[n] = c;
-    }
-    return t;
-  }();
-  crc = ~crc;
-  for (std::size_t i = 0; i < size; ++i)
-    crc = table[(crc ^ data[i]) & 0xFF] ^ (crc >> 8);
-  return ~crc;
-}
-
 void putBigEndian(std::string& out, std::uint32_t value)
 {
   for (int shift = 24; shift >= 0; shift -= 8)
@@ -44,12 +26,10 @@ void putChunk(std::string& out, const char type[4], const std::string& data)
   std::string body(type, 4);
   body += data;
   out += body;
-  putBigEndian(out, crc32(reinterpret_cast<const std::uint8_t*>(body.data()), body.size()));
+  // The chunk CRC is zlib's CRC-32 (ISO 3309, the one PNG specifies).
+  putBigEndian(out, static_cast<std::uint32_t>(
+                        ::crc32_z(0L, reinterpret_cast<const Bytef*>(body.data()), static_cast<z_size_t>(body.size()))));
 }
-
-}  // namespace
-
-namespace {
 
 /** PNG of 8-bit samples, `channels` per pixel (1: greyscale, 3: RGB). */
 std::string encodePNG(int width, int height, int channels, const std::vector<std::uint8_t>& pixels)

@@ -89,80 +89,78 @@ std::vector<VertexPatchSample> PatchMeshReconstruction::computeMapping() const
   return mapping;
 }
 
-void PatchMeshReconstruction::compute(TriangleMesh& out, Report* report) const
-{
-  const std::vector<VertexPatchSample> mapping = computeMapping();
-  const PatchSet& set = *patches_;
-  const int grid = set.grid_size;
-  const double side = set.side(), bin = side / grid, max_jump = 0.5 * side;
-  const std::size_t n = target_->vertices.size();
-  // Estimates per vertex (the mapping is in vertex order), combined robustly below.
-  std::vector<std::vector<Eigen::Vector3d>> points(n);
-  std::vector<char> over_unobserved(n, 0);
+namespace {
 
+/** The point a patch gives for one mapped vertex, in the patch's frame: the height at the nearest
+  * bin centre (BinCentres) or interpolated over the 2×2 bin centres around it (Bilinear). False
+  * when the patch did not observe the place; `unobserved` then says so. */
+bool patchPoint(const PatchSet& set, PatchMeshReconstruction::Rule rule, const VertexPatchSample& sample,
+                Eigen::Vector3d& local, bool& unobserved)
+{
+  const int grid = set.grid_size;
+  const double side = set.side(), bin = side / grid;
+  const int patch = sample.patch;
   // Continuous bin coordinate of a tangent coordinate: bin centres sit at integers.
   auto binCoordinate = [&](double t) { return (t + 0.5 * side) / bin - 0.5; };
-  auto observed = [&](int patch, int i, int j) { return set.observed(j * grid + i, patch); };
-  auto height = [&](int patch, int i, int j) { return set.heights(j * grid + i, patch); };
-
-  for (const VertexPatchSample& sample : mapping) {
-    const int patch = sample.patch;
-    const double u = binCoordinate(sample.x), w = binCoordinate(sample.y);
-    Eigen::Vector3d local;
-    if (rule_ == Rule::BinCentres) {
-      const int i = std::clamp(static_cast<int>(std::floor(u + 0.5)), 0, grid - 1);
-      const int j = std::clamp(static_cast<int>(std::floor(w + 0.5)), 0, grid - 1);
-      if (!observed(patch, i, j)) {
-        over_unobserved[static_cast<std::size_t>(sample.vertex)] = 1;
-        continue;
-      }
-      local = Eigen::Vector3d((i + 0.5) * bin - 0.5 * side, (j + 0.5) * bin - 0.5 * side, height(patch, i, j));
-    } else {
-      // The 2×2 bin centres around (u, w); at the border the nearest pair, extrapolated linearly.
-      const int i0 = std::clamp(static_cast<int>(std::floor(u)), 0, grid - 2);
-      const int j0 = std::clamp(static_cast<int>(std::floor(w)), 0, grid - 2);
-      const int corner_i[4] = {i0, i0 + 1, i0, i0 + 1}, corner_j[4] = {j0, j0, j0 + 1, j0 + 1};
-      bool seen[4];
-      bool all_seen = true;
-      for (int c = 0; c < 4; ++c)
-        all_seen &= seen[c] = observed(patch, corner_i[c], corner_j[c]);
-      double a = u - i0, b = w - j0;
-      if (!all_seen) {
-        // Near the edge of the observed area: interpolate inside the cell only, over the corners
-        // that exist, and only when they carry most of the weight.
-        a = std::clamp(a, 0.0, 1.0);
-        b = std::clamp(b, 0.0, 1.0);
-      }
-      const double weight[4] = {(1 - a) * (1 - b), a * (1 - b), (1 - a) * b, a * b};
-      double h = 0.0, total = 0.0;
-      for (int c = 0; c < 4; ++c)
-        if (seen[c]) {
-          h += weight[c] * height(patch, corner_i[c], corner_j[c]);
-          total += weight[c];
-        }
-      if (!all_seen) {
-        // A vertex on the rim of an open surface has unobserved bins on its outer side: the
-        // observed corners, renormalised, are still a far better height than its 1-ring's mean
-        // (measured on an open relief: 45 rim vertices carried 99.6 % of the squared error).
-        if (total < 1e-3) {
-          over_unobserved[static_cast<std::size_t>(sample.vertex)] = 1;
-          continue;
-        }
-        h /= total;
-      }
-      local = Eigen::Vector3d(sample.x, sample.y, h);
+  auto observed = [&](int i, int j) { return set.observed(j * grid + i, patch); };
+  auto height = [&](int i, int j) { return set.heights(j * grid + i, patch); };
+  const double u = binCoordinate(sample.x), w = binCoordinate(sample.y);
+  if (rule == PatchMeshReconstruction::Rule::BinCentres) {
+    const int i = std::clamp(static_cast<int>(std::floor(u + 0.5)), 0, grid - 1);
+    const int j = std::clamp(static_cast<int>(std::floor(w + 0.5)), 0, grid - 1);
+    if (!observed(i, j)) {
+      unobserved = true;
+      return false;
     }
-    if (std::abs(local.z() - sample.z) > max_jump)
-      continue;  // another sheet of the surface crosses this patch: its height is not this vertex's
-    points[static_cast<std::size_t>(sample.vertex)].push_back(
-        set.seeds[static_cast<std::size_t>(patch)] + set.rotations[static_cast<std::size_t>(patch)].transpose() * local);
+    local = Eigen::Vector3d((i + 0.5) * bin - 0.5 * side, (j + 0.5) * bin - 0.5 * side, height(i, j));
+    return true;
   }
+  // The 2×2 bin centres around (u, w); at the border the nearest pair, extrapolated linearly.
+  const int i0 = std::clamp(static_cast<int>(std::floor(u)), 0, grid - 2);
+  const int j0 = std::clamp(static_cast<int>(std::floor(w)), 0, grid - 2);
+  const int corner_i[4] = {i0, i0 + 1, i0, i0 + 1}, corner_j[4] = {j0, j0, j0 + 1, j0 + 1};
+  bool seen[4];
+  bool all_seen = true;
+  for (int c = 0; c < 4; ++c)
+    all_seen &= seen[c] = observed(corner_i[c], corner_j[c]);
+  double a = u - i0, b = w - j0;
+  if (!all_seen) {
+    // Near the edge of the observed area: interpolate inside the cell only, over the corners
+    // that exist, and only when they carry most of the weight.
+    a = std::clamp(a, 0.0, 1.0);
+    b = std::clamp(b, 0.0, 1.0);
+  }
+  const double weight[4] = {(1 - a) * (1 - b), a * (1 - b), (1 - a) * b, a * b};
+  double h = 0.0, total = 0.0;
+  for (int c = 0; c < 4; ++c)
+    if (seen[c]) {
+      h += weight[c] * height(corner_i[c], corner_j[c]);
+      total += weight[c];
+    }
+  if (!all_seen) {
+    // A vertex on the rim of an open surface has unobserved bins on its outer side: the
+    // observed corners, renormalised, are still a far better height than its 1-ring's mean
+    // (measured on an open relief: 45 rim vertices carried 99.6 % of the squared error).
+    if (total < 1e-3) {
+      unobserved = true;
+      return false;
+    }
+    h /= total;
+  }
+  local = Eigen::Vector3d(sample.x, sample.y, h);
+  return true;
+}
 
-  // With three or more estimates, those farther than 3 × their median distance from the
-  // coordinate-wise median (and more than a bin from it) come from another sheet of a folded
-  // surface or a badly tilted frame: they are dropped before averaging.
-  std::vector<Eigen::Vector3d> sum(n, Eigen::Vector3d::Zero());
-  std::vector<int> estimates(n, 0);
+/** Sums each vertex's estimates. With three or more estimates, those farther than 3 × their median
+  * distance from the coordinate-wise median (and more than a bin from it) come from another sheet of
+  * a folded surface or a badly tilted frame: they are dropped before averaging. Returns how many
+  * were dropped. */
+std::size_t robustSums(const std::vector<std::vector<Eigen::Vector3d>>& points, double bin,
+                       std::vector<Eigen::Vector3d>& sum, std::vector<int>& estimates)
+{
+  const std::size_t n = points.size();
+  sum.assign(n, Eigen::Vector3d::Zero());
+  estimates.assign(n, 0);
   std::size_t rejected = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : rejected)
   for (std::ptrdiff_t v = 0; v < static_cast<std::ptrdiff_t>(n); ++v) {
@@ -197,22 +195,16 @@ void PatchMeshReconstruction::compute(TriangleMesh& out, Report* report) const
     sum[static_cast<std::size_t>(v)] = total;
     estimates[static_cast<std::size_t>(v)] = count;
   }
+  return rejected;
+}
 
-  TriangleMesh result;
-  result.faces = target_->faces;
-  result.vertices = target_->vertices;
-  Report local_report;
-  std::vector<char> known(n, 0);
-  std::size_t total_estimates = 0;
-  for (std::size_t v = 0; v < n; ++v)
-    if (estimates[v] > 0) {
-      result.vertices[v] = sum[v] / estimates[v];
-      known[v] = 1;
-      ++local_report.vertices_covered;
-      total_estimates += static_cast<std::size_t>(estimates[v]);
-    }
-  // Uncovered vertices: mean of their reconstructed 1-ring, spreading inwards round by round.
-  const auto rings = computeVertexOneRings(*target_);
+/** Uncovered vertices: mean of their reconstructed 1-ring, spreading inwards round by round.
+  * Returns how many were placed. */
+std::size_t fillFromOneRings(const TriangleMesh& target, std::vector<char>& known, TriangleMesh& result)
+{
+  const std::size_t n = target.vertices.size();
+  std::size_t placed = 0;
+  const auto rings = computeVertexOneRings(target);
   for (bool changed = true; changed;) {
     changed = false;
     std::vector<std::pair<std::size_t, Eigen::Vector3d>> updates;
@@ -232,10 +224,55 @@ void PatchMeshReconstruction::compute(TriangleMesh& out, Report* report) const
     for (const auto& [v, position] : updates) {
       result.vertices[v] = position;
       known[v] = 1;
-      ++local_report.vertices_from_ring;
+      ++placed;
       changed = true;
     }
   }
+  return placed;
+}
+
+}  // namespace
+
+void PatchMeshReconstruction::compute(TriangleMesh& out, Report* report) const
+{
+  const std::vector<VertexPatchSample> mapping = computeMapping();
+  const PatchSet& set = *patches_;
+  const double side = set.side(), bin = side / set.grid_size, max_jump = 0.5 * side;
+  const std::size_t n = target_->vertices.size();
+  // Estimates per vertex (the mapping is in vertex order), combined robustly below.
+  std::vector<std::vector<Eigen::Vector3d>> points(n);
+  std::vector<char> over_unobserved(n, 0);
+  for (const VertexPatchSample& sample : mapping) {
+    Eigen::Vector3d local;
+    bool unobserved = false;
+    if (!patchPoint(set, rule_, sample, local, unobserved)) {
+      if (unobserved)
+        over_unobserved[static_cast<std::size_t>(sample.vertex)] = 1;
+      continue;
+    }
+    if (std::abs(local.z() - sample.z) > max_jump)
+      continue;  // another sheet of the surface crosses this patch: its height is not this vertex's
+    const auto patch = static_cast<std::size_t>(sample.patch);
+    points[static_cast<std::size_t>(sample.vertex)].push_back(set.seeds[patch] + set.rotations[patch].transpose() * local);
+  }
+  std::vector<Eigen::Vector3d> sum;
+  std::vector<int> estimates;
+  const std::size_t rejected = robustSums(points, bin, sum, estimates);
+
+  TriangleMesh result;
+  result.faces = target_->faces;
+  result.vertices = target_->vertices;
+  Report local_report;
+  std::vector<char> known(n, 0);
+  std::size_t total_estimates = 0;
+  for (std::size_t v = 0; v < n; ++v)
+    if (estimates[v] > 0) {
+      result.vertices[v] = sum[v] / estimates[v];
+      known[v] = 1;
+      ++local_report.vertices_covered;
+      total_estimates += static_cast<std::size_t>(estimates[v]);
+    }
+  local_report.vertices_from_ring = fillFromOneRings(*target_, known, result);
   local_report.estimates_rejected = rejected;
   local_report.vertices_unchanged = n - local_report.vertices_covered - local_report.vertices_from_ring;
   local_report.mean_estimates = local_report.vertices_covered

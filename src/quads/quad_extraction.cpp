@@ -11,6 +11,8 @@
 
 #include <Eigen/Geometry>
 
+#include <boost/pending/disjoint_sets.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -23,25 +25,9 @@ namespace patchdict {
 
 namespace {
 
-struct UnionFind {
-  std::vector<std::int32_t> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  std::int32_t find(std::int32_t x)
-  {
-    while (parent[x] != x) {
-      parent[x] = parent[parent[x]];
-      x = parent[x];
-    }
-    return x;
-  }
-  void unite(std::int32_t a, std::int32_t b)
-  {
-    a = find(a);
-    b = find(b);
-    if (a != b)
-      parent[std::max(a, b)] = std::min(a, b);  // the smaller index represents: deterministic
-  }
-};
+// Sets of vertices on one lattice point (Boost's union-find; only the partition is used: each
+// cluster is numbered by its lowest vertex, whatever element represents it).
+using UnionFind = boost::disjoint_sets_with_storage<>;
 
 /** Interior angle at corner b of the polyline a-b-c, in radians. */
 double cornerAngle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c)
@@ -153,23 +139,19 @@ void mergeTrianglePairs(std::vector<std::vector<std::int32_t>>& faces, const std
   faces.erase(std::remove_if(faces.begin(), faces.end(), [](const auto& f) { return f.empty(); }), faces.end());
 }
 
-}  // namespace
+/** An edge whose two ends' origins are on the same lattice point. */
+struct Collapse {
+  std::int32_t i, j;
+  double error;
+};
 
-void extractQuadMesh(const TriangleMesh& mesh, const FieldLevel& level, const std::vector<Eigen::Vector3d>& q,
-                     const std::vector<Eigen::Vector3d>& o, double scale, QuadMesh& out)
+/** Classifies every edge by the lattice offset between its two ends' origins: the same point
+  * (a collapse) or a lattice neighbour (a link); longer and diagonal jumps are ignored. */
+void classifyEdges(const FieldLevel& level, const std::vector<Eigen::Vector3d>& q, const std::vector<Eigen::Vector3d>& o,
+                   double scale, std::vector<Collapse>& collapses,
+                   std::vector<std::pair<std::int32_t, std::int32_t>>& links)
 {
   const std::size_t n = level.numVertices();
-  if (q.size() != n || o.size() != n || mesh.vertices.size() != n)
-    throw Error("quad extraction: field sizes do not match the mesh");
-  out = QuadMesh();
-
-  // 1. Classify every edge by the lattice offset between its two ends' origins.
-  struct Collapse {
-    std::int32_t i, j;
-    double error;
-  };
-  std::vector<Collapse> collapses;
-  std::vector<std::pair<std::int32_t, std::int32_t>> links;
   for (std::int32_t i = 0; i < static_cast<std::int32_t>(n); ++i) {
     const Eigen::Vector3d& n_i = level.normals[i];
     if (n_i.squaredNorm() == 0.0)
@@ -196,116 +178,120 @@ void extractQuadMesh(const TriangleMesh& mesh, const FieldLevel& level, const st
         links.emplace_back(i, j);
     }
   }
+}
 
-  // 2. Vertices on the same lattice point become one output vertex, lowest error first.
-  std::stable_sort(collapses.begin(), collapses.end(),
-                   [](const Collapse& a, const Collapse& b) { return a.error < b.error; });
-  UnionFind sets(n);
-  for (const Collapse& c : collapses)
-    sets.unite(c.i, c.j);
-
+/** The output vertices: each input vertex's cluster and the clusters' weighted sums. */
+struct Clusters {
   std::vector<std::int32_t> cluster;
   std::vector<Eigen::Vector3d> position_sum, normal_sum;
   std::vector<double> weight_sum;
-  const auto buildClusters = [&]() {
-    cluster.assign(n, -1);
-    position_sum.clear();
-    normal_sum.clear();
-    weight_sum.clear();
-    std::vector<std::int32_t> of_root(n, -1);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (level.normals[i].squaredNorm() == 0.0)
-        continue;
-      const std::int32_t root = sets.find(static_cast<std::int32_t>(i));
-      if (of_root[root] < 0) {
-        of_root[root] = static_cast<std::int32_t>(position_sum.size());
-        position_sum.push_back(Eigen::Vector3d::Zero());
-        normal_sum.push_back(Eigen::Vector3d::Zero());
-        weight_sum.push_back(0.0);
-      }
-      const std::int32_t c = of_root[root];
-      cluster[i] = c;
-      // Origins far from their vertex are less trustworthy (weights of Jakob et al.).
-      const double w = std::exp(-9.0 * (o[i] - level.positions[i]).squaredNorm() / (scale * scale));
-      position_sum[c] += w * o[i];
-      normal_sum[c] += w * level.normals[i];
-      weight_sum[c] += w;
-    }
-  };
-  const auto clusterMean = [&](std::int32_t c) {
+
+  Eigen::Vector3d mean(std::int32_t c) const
+  {
     return weight_sum[c] > 0.0 ? Eigen::Vector3d(position_sum[c] / weight_sum[c]) : position_sum[c];
-  };
-  buildClusters();
-  // Snap: linked clusters closer than 0.3·s are one lattice point split by a broken collapse
-  // chain (Jakob et al. snap such vertices too); closest pairs first.
-  {
-    std::vector<std::pair<double, std::size_t>> close;
-    for (std::size_t l = 0; l < links.size(); ++l) {
-      const std::int32_t a = cluster[links[l].first], b = cluster[links[l].second];
-      if (a < 0 || b < 0 || a == b)
+  }
+};
+
+/** One cluster per set of `sets`, its position the weighted mean of its vertices' origins. */
+void buildClusters(const FieldLevel& level, const std::vector<Eigen::Vector3d>& o, double scale, UnionFind& sets,
+                   Clusters& clusters)
+{
+  const std::size_t n = level.numVertices();
+  clusters.cluster.assign(n, -1);
+  clusters.position_sum.clear();
+  clusters.normal_sum.clear();
+  clusters.weight_sum.clear();
+  std::vector<std::int32_t> of_root(n, -1);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (level.normals[i].squaredNorm() == 0.0)
+      continue;
+    const auto root = static_cast<std::int32_t>(sets.find_set(i));
+    if (of_root[root] < 0) {
+      of_root[root] = static_cast<std::int32_t>(clusters.position_sum.size());
+      clusters.position_sum.push_back(Eigen::Vector3d::Zero());
+      clusters.normal_sum.push_back(Eigen::Vector3d::Zero());
+      clusters.weight_sum.push_back(0.0);
+    }
+    const std::int32_t c = of_root[root];
+    clusters.cluster[i] = c;
+    // Origins far from their vertex are less trustworthy (weights of Jakob et al.).
+    const double w = std::exp(-9.0 * (o[i] - level.positions[i]).squaredNorm() / (scale * scale));
+    clusters.position_sum[c] += w * o[i];
+    clusters.normal_sum[c] += w * level.normals[i];
+    clusters.weight_sum[c] += w;
+  }
+}
+
+/** Vertices on the same lattice point become one output vertex, lowest error first; then linked
+  * clusters closer than 0.3·s, one lattice point split by a broken collapse chain, are snapped
+  * (Jakob et al. snap such vertices too), closest pairs first. */
+Clusters clusterLatticePoints(const FieldLevel& level, const std::vector<Eigen::Vector3d>& o, double scale,
+                              std::vector<Collapse>& collapses,
+                              const std::vector<std::pair<std::int32_t, std::int32_t>>& links)
+{
+  std::stable_sort(collapses.begin(), collapses.end(),
+                   [](const Collapse& a, const Collapse& b) { return a.error < b.error; });
+  UnionFind sets(level.numVertices());
+  for (const Collapse& c : collapses)
+    sets.union_set(c.i, c.j);
+  Clusters clusters;
+  buildClusters(level, o, scale, sets, clusters);
+  std::vector<std::pair<double, std::size_t>> close;
+  for (std::size_t l = 0; l < links.size(); ++l) {
+    const std::int32_t a = clusters.cluster[links[l].first], b = clusters.cluster[links[l].second];
+    if (a < 0 || b < 0 || a == b)
+      continue;
+    const double distance = (clusters.mean(a) - clusters.mean(b)).norm();
+    if (distance < 0.3 * scale)
+      close.emplace_back(distance, l);
+  }
+  std::sort(close.begin(), close.end());
+  for (const auto& [distance, l] : close)
+    sets.union_set(links[l].first, links[l].second);
+  if (!close.empty())
+    buildClusters(level, o, scale, sets, clusters);
+  return clusters;
+}
+
+using NeighbourSets = std::vector<std::set<std::int32_t>>;
+
+/** Edges that run past another neighbour of both ends, within 0.3·s of it, skip a lattice point
+  * (Jakob et al. snap such thin triangles): the path through that point replaces them. */
+void removeSkippingEdges(const std::vector<Eigen::Vector3d>& positions, double scale, NeighbourSets& neighbour_sets)
+{
+  const std::size_t m = neighbour_sets.size();
+  std::vector<std::pair<std::int32_t, std::int32_t>> spans;
+  for (std::int32_t a = 0; a < static_cast<std::int32_t>(m); ++a)
+    for (const std::int32_t b : neighbour_sets[a]) {
+      if (b <= a)
         continue;
-      const double distance = (clusterMean(a) - clusterMean(b)).norm();
-      if (distance < 0.3 * scale)
-        close.emplace_back(distance, l);
-    }
-    std::sort(close.begin(), close.end());
-    for (const auto& [distance, l] : close)
-      sets.unite(links[l].first, links[l].second);
-    if (!close.empty())
-      buildClusters();
-  }
-  const std::size_t m = position_sum.size();
-
-  // 3. Output edges between distinct clusters.
-  std::vector<std::set<std::int32_t>> neighbour_sets(m);
-  for (const auto& [i, j] : links) {
-    const std::int32_t a = cluster[i], b = cluster[j];
-    if (a != b && a >= 0 && b >= 0) {
-      neighbour_sets[a].insert(b);
-      neighbour_sets[b].insert(a);
-    }
-  }
-  // 4. Positions on the surface, normals from the cluster.
-  std::vector<Eigen::Vector3d> positions(m), normals(m);
-  const PointToMeshDistance surface(mesh);
-  for (std::size_t c = 0; c < m; ++c) {
-    positions[c] = surface.query(clusterMean(static_cast<std::int32_t>(c))).closest_point;
-    const double length = normal_sum[c].norm();
-    normals[c] = length > 0.0 ? Eigen::Vector3d(normal_sum[c] / length) : Eigen::Vector3d::UnitZ();
-  }
-
-  // Edges that run past another neighbour of both ends, within 0.3·s of it, skip a lattice point
-  // (Jakob et al. snap such thin triangles): the path through that point replaces them.
-  {
-    std::vector<std::pair<std::int32_t, std::int32_t>> spans;
-    for (std::int32_t a = 0; a < static_cast<std::int32_t>(m); ++a)
-      for (const std::int32_t b : neighbour_sets[a]) {
-        if (b <= a)
+      const Eigen::Vector3d ab = positions[b] - positions[a];
+      const double length2 = ab.squaredNorm();
+      if (length2 == 0.0)
+        continue;
+      for (const std::int32_t c : neighbour_sets[a]) {
+        if (c == b || !neighbour_sets[b].count(c))
           continue;
-        const Eigen::Vector3d ab = positions[b] - positions[a];
-        const double length2 = ab.squaredNorm();
-        if (length2 == 0.0)
+        const double t = (positions[c] - positions[a]).dot(ab) / length2;
+        if (t <= 0.0 || t >= 1.0)
           continue;
-        for (const std::int32_t c : neighbour_sets[a]) {
-          if (c == b || !neighbour_sets[b].count(c))
-            continue;
-          const double t = (positions[c] - positions[a]).dot(ab) / length2;
-          if (t <= 0.0 || t >= 1.0)
-            continue;
-          if ((positions[a] + t * ab - positions[c]).norm() < 0.3 * scale) {
-            spans.emplace_back(a, b);
-            break;
-          }
+        if ((positions[a] + t * ab - positions[c]).norm() < 0.3 * scale) {
+          spans.emplace_back(a, b);
+          break;
         }
       }
-    for (const auto& [a, b] : spans) {
-      neighbour_sets[a].erase(b);
-      neighbour_sets[b].erase(a);
     }
+  for (const auto& [a, b] : spans) {
+    neighbour_sets[a].erase(b);
+    neighbour_sets[b].erase(a);
   }
-  // Prune dangling vertices (degree ≤ 1) until none is left: they bound no face.
+}
+
+/** Prunes dangling vertices (degree ≤ 1) until none is left: they bound no face. */
+void pruneDanglingVertices(NeighbourSets& neighbour_sets)
+{
   std::vector<std::int32_t> stack;
-  for (std::size_t c = 0; c < m; ++c)
+  for (std::size_t c = 0; c < neighbour_sets.size(); ++c)
     if (neighbour_sets[c].size() == 1)
       stack.push_back(static_cast<std::int32_t>(c));
   while (!stack.empty()) {
@@ -319,10 +305,17 @@ void extractQuadMesh(const TriangleMesh& mesh, const FieldLevel& level, const st
     if (neighbour_sets[other].size() == 1)
       stack.push_back(other);
   }
+}
 
-  // 5. Rotation system: neighbours sorted counter-clockwise about each vertex's normal.
-  std::vector<std::vector<std::int32_t>> neighbours(m);
-  std::vector<std::size_t> dart_offset(m + 1, 0);
+/** Rotation system: neighbours sorted counter-clockwise about each vertex's normal, and the
+  * offset of each vertex's first dart. */
+void buildRotationSystem(const std::vector<Eigen::Vector3d>& positions, const std::vector<Eigen::Vector3d>& normals,
+                         const NeighbourSets& neighbour_sets, std::vector<std::vector<std::int32_t>>& neighbours,
+                         std::vector<std::size_t>& dart_offset)
+{
+  const std::size_t m = neighbour_sets.size();
+  neighbours.assign(m, {});
+  dart_offset.assign(m + 1, 0);
   for (std::size_t c = 0; c < m; ++c) {
     Eigen::Vector3d e1, e2;
     detail::tangentFrame(normals[c], e1, e2);
@@ -336,30 +329,60 @@ void extractQuadMesh(const TriangleMesh& mesh, const FieldLevel& level, const st
       neighbours[c].push_back(b);
     dart_offset[c + 1] = dart_offset[c] + neighbours[c].size();
   }
+}
+
+/** Flags the clusters that hold a vertex of the input's boundary (or of a non-manifold edge). */
+std::vector<char> boundaryClusters(const TriangleMesh& mesh, const std::vector<std::int32_t>& cluster, std::size_t m)
+{
+  std::vector<char> on_boundary(m, 0);
+  const EdgeFaceAdjacency adjacency = computeEdgeFaceAdjacency(mesh);
+  for (const MeshEdge& edge : adjacency.edges)
+    if (!edge.isManifold() || edge.isBoundary())
+      for (const std::int32_t v : {edge.v0, edge.v1})
+        if (cluster[v] >= 0)
+          on_boundary[cluster[v]] = 1;
+  return on_boundary;
+}
+
+/** A walk that meets a vertex twice (a pinch, or an edge walked both ways) is cut into its
+  * simple cycles; spurs give 2-cycles, which the caller drops. */
+std::vector<std::vector<std::int32_t>> simpleCycles(const std::vector<std::int32_t>& walk)
+{
+  std::vector<std::vector<std::int32_t>> cycles;
+  std::vector<std::int32_t> stack;
+  for (const std::int32_t v : walk) {
+    const auto seen_at = std::find(stack.begin(), stack.end(), v);
+    if (seen_at != stack.end()) {
+      cycles.emplace_back(seen_at, stack.end());
+      stack.erase(seen_at + 1, stack.end());
+    } else {
+      stack.push_back(v);
+    }
+  }
+  cycles.push_back(stack);
+  return cycles;
+}
+
+/** Face walk: after dart a→b comes b→c with c the neighbour of b just before a (clockwise),
+  * which keeps the face on the left, i.e. counter-clockwise about the normals. Faces of up to 8
+  * sides are lattice defects (Jakob et al. split them); larger ones, up to 16, too when none of
+  * their vertices is on the input's boundary (a hole in the lattice, not in the surface). */
+std::vector<std::vector<std::int32_t>> walkFaces(const std::vector<Eigen::Vector3d>& positions,
+                                                 const NeighbourSets& neighbour_sets,
+                                                 const std::vector<std::vector<std::int32_t>>& neighbours,
+                                                 const std::vector<std::size_t>& dart_offset,
+                                                 const std::vector<char>& on_boundary)
+{
+  const std::size_t m = neighbours.size();
   const auto indexOf = [&](std::int32_t at, std::int32_t target) {
     const auto& ring = neighbours[at];
     return static_cast<std::size_t>(std::find(ring.begin(), ring.end(), target) - ring.begin());
   };
-
-  // 6. Face walk: after dart a→b comes b→c with c the neighbour of b just before a (clockwise),
-  //    which keeps the face on the left, i.e. counter-clockwise about the normals.
   const auto is_edge = [&](std::int32_t a, std::int32_t b) { return neighbour_sets[a].count(b) > 0; };
   std::vector<char> used(dart_offset[m], 0);
   std::vector<std::vector<std::int32_t>> faces;
   std::set<std::vector<std::int32_t>> seen;
-  // Faces of up to 8 sides are lattice defects (Jakob et al. split them); larger ones, up to 16,
-  // too when none of their vertices is on the input's boundary (a hole in the lattice, not in
-  // the surface).
   constexpr std::size_t kMaxSplitFaceSize = 8, kMaxFaceSize = 16, kMaxWalk = 64;
-  std::vector<char> on_boundary(m, 0);
-  {
-    const EdgeFaceAdjacency adjacency = computeEdgeFaceAdjacency(mesh);
-    for (const MeshEdge& edge : adjacency.edges)
-      if (!edge.isManifold() || edge.isBoundary())
-        for (const std::int32_t v : {edge.v0, edge.v1})
-          if (cluster[v] >= 0)
-            on_boundary[cluster[v]] = 1;
-  }
   for (std::size_t a0 = 0; a0 < m; ++a0) {
     for (std::size_t k0 = 0; k0 < neighbours[a0].size(); ++k0) {
       if (used[dart_offset[a0] + k0])
@@ -380,21 +403,7 @@ void extractQuadMesh(const TriangleMesh& mesh, const FieldLevel& level, const st
       }
       if (walk.size() > kMaxWalk)
         continue;  // an open boundary or a large hole of the input
-      // A walk that meets a vertex twice (a pinch, or an edge walked both ways) is cut into its
-      // simple cycles; spurs give 2-cycles, which are dropped.
-      std::vector<std::vector<std::int32_t>> cycles;
-      std::vector<std::int32_t> stack;
-      for (const std::int32_t v : walk) {
-        const auto seen_at = std::find(stack.begin(), stack.end(), v);
-        if (seen_at != stack.end()) {
-          cycles.emplace_back(seen_at, stack.end());
-          stack.erase(seen_at + 1, stack.end());
-        } else {
-          stack.push_back(v);
-        }
-      }
-      cycles.push_back(stack);
-      for (const auto& polygon : cycles) {
+      for (const auto& polygon : simpleCycles(walk)) {
         if (polygon.size() < 3 || polygon.size() > kMaxFaceSize)
           continue;
         if (polygon.size() > kMaxSplitFaceSize &&
@@ -411,10 +420,14 @@ void extractQuadMesh(const TriangleMesh& mesh, const FieldLevel& level, const st
       }
     }
   }
+  return faces;
+}
 
-  mergeTrianglePairs(faces, positions);
-
-  // 7. Keep the vertices faces use, in cluster order.
+/** Keeps the vertices faces use, in cluster order, and renumbers the faces. */
+void compactQuadMesh(const std::vector<Eigen::Vector3d>& positions, const std::vector<Eigen::Vector3d>& normals,
+                     std::vector<std::vector<std::int32_t>>& faces, QuadMesh& out)
+{
+  const std::size_t m = positions.size();
   std::vector<std::int32_t> remap(m, -1);
   for (const auto& face : faces)
     for (const std::int32_t v : face)
@@ -431,6 +444,51 @@ void extractQuadMesh(const TriangleMesh& mesh, const FieldLevel& level, const st
       v = remap[v];
     out.faces.push_back(std::move(face));
   }
+}
+
+}  // namespace
+
+void extractQuadMesh(const TriangleMesh& mesh, const FieldLevel& level, const std::vector<Eigen::Vector3d>& q,
+                     const std::vector<Eigen::Vector3d>& o, double scale, QuadMesh& out)
+{
+  const std::size_t n = level.numVertices();
+  if (q.size() != n || o.size() != n || mesh.vertices.size() != n)
+    throw Error("quad extraction: field sizes do not match the mesh");
+  out = QuadMesh();
+
+  std::vector<Collapse> collapses;
+  std::vector<std::pair<std::int32_t, std::int32_t>> links;
+  classifyEdges(level, q, o, scale, collapses, links);
+  const Clusters clusters = clusterLatticePoints(level, o, scale, collapses, links);
+  const std::size_t m = clusters.position_sum.size();
+
+  // Output edges between distinct clusters.
+  NeighbourSets neighbour_sets(m);
+  for (const auto& [i, j] : links) {
+    const std::int32_t a = clusters.cluster[i], b = clusters.cluster[j];
+    if (a != b && a >= 0 && b >= 0) {
+      neighbour_sets[a].insert(b);
+      neighbour_sets[b].insert(a);
+    }
+  }
+  // Positions on the surface, normals from the cluster.
+  std::vector<Eigen::Vector3d> positions(m), normals(m);
+  const PointToMeshDistance surface(mesh);
+  for (std::size_t c = 0; c < m; ++c) {
+    positions[c] = surface.query(clusters.mean(static_cast<std::int32_t>(c))).closest_point;
+    const double length = clusters.normal_sum[c].norm();
+    normals[c] = length > 0.0 ? Eigen::Vector3d(clusters.normal_sum[c] / length) : Eigen::Vector3d::UnitZ();
+  }
+  removeSkippingEdges(positions, scale, neighbour_sets);
+  pruneDanglingVertices(neighbour_sets);
+
+  std::vector<std::vector<std::int32_t>> neighbours;
+  std::vector<std::size_t> dart_offset;
+  buildRotationSystem(positions, normals, neighbour_sets, neighbours, dart_offset);
+  std::vector<std::vector<std::int32_t>> faces = walkFaces(
+      positions, neighbour_sets, neighbours, dart_offset, boundaryClusters(mesh, clusters.cluster, m));
+  mergeTrianglePairs(faces, positions);
+  compactQuadMesh(positions, normals, faces, out);
 }
 
 }  // namespace patchdict

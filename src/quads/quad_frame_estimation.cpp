@@ -84,13 +84,8 @@ Eigen::Vector3d sideDirection(const QuadMesh& mesh, std::size_t f, const Eigen::
   return length > 0.0 ? Eigen::Vector3d(d / length) : Eigen::Vector3d::Zero();
 }
 
-}  // namespace
-
-std::vector<Eigen::Matrix3d> QuadFrameEstimation::computeFaceFrames() const
+void checkQuadMesh(const QuadMesh& mesh)
 {
-  if (!input_)
-    throw Error("quad frames: no input quad mesh");
-  const QuadMesh& mesh = *input_;
   if (mesh.faces.empty())
     throw Error("quad frames: the quad mesh has no faces");
   const std::int64_t num_vertices = static_cast<std::int64_t>(mesh.vertices.size());
@@ -101,17 +96,12 @@ std::vector<Eigen::Matrix3d> QuadFrameEstimation::computeFaceFrames() const
       if (v < 0 || v >= num_vertices)
         throw Error("quad frames: face index " + std::to_string(v) + " is out of range");
   }
+}
 
+/** Faces sharing an edge, in increasing order (deterministic traversal). */
+std::vector<std::vector<std::int32_t>> faceAdjacency(const QuadMesh& mesh)
+{
   const std::size_t num_faces = mesh.faces.size();
-  std::vector<Eigen::Vector3d> z(num_faces), d0(num_faces);
-  std::vector<char> valid(num_faces, 0);
-  for (std::size_t f = 0; f < num_faces; ++f) {
-    z[f] = orientedFaceNormal(mesh, f);
-    d0[f] = z[f].squaredNorm() > 0.0 ? sideDirection(mesh, f, z[f]) : Eigen::Vector3d::Zero();
-    valid[f] = d0[f].squaredNorm() > 0.0;
-  }
-
-  // Faces sharing an edge, in increasing order (deterministic traversal).
   std::map<std::pair<std::int32_t, std::int32_t>, std::vector<std::int32_t>> edge_faces;
   for (std::size_t f = 0; f < num_faces; ++f) {
     const auto& face = mesh.faces[f];
@@ -130,64 +120,97 @@ std::vector<Eigen::Matrix3d> QuadFrameEstimation::computeFaceFrames() const
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
   }
+  return adjacent;
+}
 
-  std::vector<Eigen::Matrix3d> frames(num_faces, Eigen::Matrix3d::Zero());
-  std::vector<char> done(num_faces, 0);
-  const auto setFrame = [&](std::size_t f, const Eigen::Vector3d& x) {
+/** Per face: its normal z, a side direction d0, whether it has both, and its frame once set. */
+struct FaceFrames {
+  std::vector<Eigen::Vector3d> z, d0;
+  std::vector<char> valid, done;
+  std::vector<Eigen::Matrix3d> frames;
+
+  explicit FaceFrames(const QuadMesh& mesh)
+  {
+    const std::size_t num_faces = mesh.faces.size();
+    z.resize(num_faces);
+    d0.resize(num_faces);
+    valid.assign(num_faces, 0);
+    for (std::size_t f = 0; f < num_faces; ++f) {
+      z[f] = orientedFaceNormal(mesh, f);
+      d0[f] = z[f].squaredNorm() > 0.0 ? sideDirection(mesh, f, z[f]) : Eigen::Vector3d::Zero();
+      valid[f] = d0[f].squaredNorm() > 0.0;
+    }
+    frames.assign(num_faces, Eigen::Matrix3d::Zero());
+    done.assign(num_faces, 0);
+  }
+  void set(std::size_t f, const Eigen::Vector3d& x)
+  {
     frames[f].row(0) = x;
     frames[f].row(1) = z[f].cross(x);
     frames[f].row(2) = z[f];
     done[f] = 1;
-  };
+  }
+};
+
+/** Breadth-first from each unvisited valid face: a child takes the side direction closest to its
+  * parent's X transported into its plane. */
+void propagateFrames(const std::vector<std::vector<std::int32_t>>& adjacent, FaceFrames& s)
+{
+  const std::size_t num_faces = adjacent.size();
   for (std::size_t root = 0; root < num_faces; ++root) {
-    if (done[root] || !valid[root])
+    if (s.done[root] || !s.valid[root])
       continue;
-    setFrame(root, d0[root]);
+    s.set(root, s.d0[root]);
     std::queue<std::int32_t> queue;
     queue.push(static_cast<std::int32_t>(root));
     while (!queue.empty()) {
       const std::int32_t parent = queue.front();
       queue.pop();
-      const Eigen::Vector3d parent_x = frames[parent].row(0).transpose();
+      const Eigen::Vector3d parent_x = s.frames[parent].row(0).transpose();
       for (const std::int32_t child : adjacent[parent]) {
-        if (done[child] || !valid[child])
+        if (s.done[child] || !s.valid[child])
           continue;
         // Parent's X transported into the child's plane; the closest of the four side directions.
-        const Eigen::Vector3d target = transportTangent(parent_x, z[parent], z[child]);
-        const Eigen::Vector3d d1 = z[child].cross(d0[child]);
-        const Eigen::Vector3d candidates[4] = {d0[child], d1, -d0[child], -d1};
+        const Eigen::Vector3d target = transportTangent(parent_x, s.z[parent], s.z[child]);
+        const Eigen::Vector3d d1 = s.z[child].cross(s.d0[child]);
+        const Eigen::Vector3d candidates[4] = {s.d0[child], d1, -s.d0[child], -d1};
         int best = 0;
         for (int k = 1; k < 4; ++k)
           if (candidates[k].dot(target) > candidates[best].dot(target))
             best = k;
-        setFrame(child, candidates[best]);
+        s.set(child, candidates[best]);
         queue.push(child);
       }
     }
   }
-  // The traversal leaves seams where its fronts meet with different turns around singularities.
-  // Iterated conditional modes shorten them: each face takes, of its four side directions, the
-  // one that agrees (within 20°) with the most neighbours, ties kept as they are; sweeps in face
-  // order until nothing changes (a local minimum of the number of disagreeing pairs).
+}
+
+/** The traversal leaves seams where its fronts meet with different turns around singularities.
+  * Iterated conditional modes shorten them: each face takes, of its four side directions, the one
+  * that agrees (within 20°) with the most neighbours, ties kept as they are; sweeps in face order
+  * until nothing changes (a local minimum of the number of disagreeing pairs). */
+void shortenSeams(const std::vector<std::vector<std::int32_t>>& adjacent, FaceFrames& s)
+{
+  const std::size_t num_faces = adjacent.size();
   const double agree = std::cos(20.0 * 3.14159265358979323846 / 180.0);
   for (int sweep = 0; sweep < 100; ++sweep) {
     bool changed = false;
     for (std::size_t f = 0; f < num_faces; ++f) {
-      if (!done[f] || adjacent[f].empty())
+      if (!s.done[f] || adjacent[f].empty())
         continue;
-      const Eigen::Vector3d d1 = z[f].cross(d0[f]);
-      const Eigen::Vector3d candidates[4] = {d0[f], d1, -d0[f], -d1};
+      const Eigen::Vector3d d1 = s.z[f].cross(s.d0[f]);
+      const Eigen::Vector3d candidates[4] = {s.d0[f], d1, -s.d0[f], -d1};
       int votes[4] = {0, 0, 0, 0};
       for (const std::int32_t g : adjacent[f]) {
-        if (!done[g])
+        if (!s.done[g])
           continue;
-        const Eigen::Vector3d x = transportTangent(frames[g].row(0).transpose(), z[g], z[f]);
+        const Eigen::Vector3d x = transportTangent(s.frames[g].row(0).transpose(), s.z[g], s.z[f]);
         if (x.squaredNorm() == 0.0)
           continue;
         for (int k = 0; k < 4; ++k)
           votes[k] += candidates[k].dot(x) > agree;
       }
-      const Eigen::Vector3d current = frames[f].row(0).transpose();
+      const Eigen::Vector3d current = s.frames[f].row(0).transpose();
       int now = 0;
       for (int k = 1; k < 4; ++k)
         if (candidates[k].dot(current) > candidates[now].dot(current))
@@ -197,14 +220,28 @@ std::vector<Eigen::Matrix3d> QuadFrameEstimation::computeFaceFrames() const
         if (votes[k] > votes[best])
           best = k;
       if (best != now) {
-        setFrame(f, candidates[best]);
+        s.set(f, candidates[best]);
         changed = true;
       }
     }
     if (!changed)
       break;
   }
-  return frames;
+}
+
+}  // namespace
+
+std::vector<Eigen::Matrix3d> QuadFrameEstimation::computeFaceFrames() const
+{
+  if (!input_)
+    throw Error("quad frames: no input quad mesh");
+  const QuadMesh& mesh = *input_;
+  checkQuadMesh(mesh);
+  FaceFrames state(mesh);
+  const std::vector<std::vector<std::int32_t>> adjacent = faceAdjacency(mesh);
+  propagateFrames(adjacent, state);
+  shortenSeams(adjacent, state);
+  return std::move(state.frames);
 }
 
 void QuadFrameEstimation::compute(std::vector<Eigen::Vector3d>& seeds, pcl::PointCloud<pcl::ReferenceFrame>& frames,

@@ -28,16 +28,15 @@ struct PatchCodecParameters {
     * (OMP with at most k) that minimises E_k + atom_cost × L² × k, where E_k is the summed squared
     * error of its observed bins (0: off). The cap is `coefficients` for quad patches and a quarter
     * of the kept bins for coverage patches. One price for every patch puts the atoms where they
-    * remove the most error; at equal entities it measured 0.5–1 dB above `target_error` on
-    * max_planck (L 0.12, quad patches). Both may be set: the error target then also ends each code
-    * early. */
+    * remove the most error (at equal entities it beats `target_error`; figures in docs/). Both
+    * may be set: the error target then also ends each code early. */
   double atom_cost = 0.0;
   int coefficient_bits = 6;   ///< uniform quantiser: the 99th percentile of |coefficient| maps to 2^(bits−1) − 1
   int position_bits = 10;     ///< quad-mesh vertex grid over the unit cube (seed offsets absorb its error)
   int subdivision = 0;        ///< splits per quad side of the decoded mesh; 0 = grid size / 2
   /** Laplacian iterations of the coarse shape the quads are laid on. Fewer than the layout's 30:
     * a heavily smoothed shape loses thin parts (the bunny's ears), whose quads then go missing from
-    * the file (measured on the bunny at L = 0.064: 30 → 61.8 dB, 5 → 66.5 dB). */
+    * the file (figures in docs/). */
   int smoothing_iterations = 5;
   /** Move the quad vertices from the smoothed coarse shape onto the input before storing them, so
     * patches code small residual heights rather than the smoothing's shrinkage. */
@@ -65,7 +64,7 @@ struct PatchCodecParameters {
   * those seeds; masked OMP with `coefficients` atoms; coefficients uniformly quantised. Then the
   * encoder decodes what it wrote: parts of the input the result misses (no quads reach them)
   * get coverage patches, whose frames are stored (seed on the position grid, octahedral normal,
-  * tangent angle: ~11 bytes before deflate, 9.5 after on lucy) and whose codes cover only the bins
+  * tangent angle) and whose codes cover only the bins
   * the surface lacks.
   *
   * File: magic "PDCv", version, the dictionary's fingerprint, grid size and atom count, the

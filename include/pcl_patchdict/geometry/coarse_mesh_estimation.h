@@ -21,10 +21,9 @@ namespace patchdict {
   * Method Laplacian: x ← x + λ·(mean of 1-ring − x), λ = 0.5, the paper's setting; it shrinks.
   * Method Taubin (the default): each iteration is a λ step followed by a μ step (μ = −0.53;
   * Taubin, "A signal processing approach to fair surface design", SIGGRAPH 1995), a low-pass
-  * filter that barely shrinks. Measured on the bunny, 30 iterations (test
-  * SmoothsNoiseAndTaubinShrinksLessThanLaplacian): mean dihedral angle 0.100 → 0.043 rad at
-  * −7.6 % area for Laplacian, → 0.069 rad at −0.55 % area for Taubin. Boundary vertices of open scans are smoothed along the boundary only
-  * (with their boundary neighbours), so holes and outer rims keep their place.
+  * filter that barely shrinks (test SmoothsNoiseAndTaubinShrinksLessThanLaplacian; figures in
+  * docs/). Boundary vertices of open scans are smoothed along the boundary only (with their
+  * boundary neighbours), so holes and outer rims keep their place.
   *
   * Cloud input (setInputCloud):
   *  1. non-finite points (and, for PointNormal, points whose normal is non-finite or zero) are
@@ -39,18 +38,15 @@ namespace patchdict {
   *     regions of closed shapes (the bunny's neck, ears). PointNormal: the normals are used as given;
   *  3. pcl::Poisson (Kazhdan et al. 2006), depth from the sampling density when setPoissonDepth(0)
   *     (the default): the smallest depth whose octree cell, (1.1 · largest bbox side) / 2^depth, is
-  *     at most twice the mean nearest-neighbour spacing s, clamped to [5, 10]. Measured on the
-  *     bunny's 34,834 vertices (unit cube, s = 0.0067; the rule gives 7): mean vertex-to-surface
-  *     distance 1.5e-3 / 5.2e-4 / 5.0e-4 / 4.6e-4 at depths 6 / 7 / 8 / 9 for 1.3 / 2.9 / 4.7 /
-  *     5.4 s of Poisson — past the rule's depth, time grows faster than accuracy;
+  *     at most twice the mean nearest-neighbour spacing s, clamped to [5, 10]: past the rule's
+  *     depth, Poisson's time grows faster than its accuracy (figures in docs/);
   *  4. trimming: Poisson closes open scans and holes with smooth "bubbles" far from any sample;
   *     faces whose centroid is farther than getTrimFactor() · s from the nearest input point, in
   *     edge-connected regions of at least getMinimumTrimmedRegion() such faces, are removed (see
   *     setTrimFactor for the measured defaults), then cleanMesh (degenerate and duplicate faces,
   *     unreferenced vertices); faces are oriented to agree with the input normals. Poisson also
   *     grows a skirt a few spacings wide beyond the rim of an open scan, and faces there are close
-  *     to the rim's samples: part of it stays (+2 % area on random samples of an open plane or
-  *     hemisphere, +12 % on their regular vertex grids, against +21 % / +46 % untrimmed);
+  *     to the rim's samples: part of it stays (far less than untrimmed; figures in docs/);
   *  5. the same smoothing as for a mesh (rims of the trimmed surface slide along themselves).
   * pcl::Poisson keeps global state: reconstructions are serialised by a process-wide mutex (two
   * cloud estimations in two threads are safe, the Poisson stage of one waits for the other). */
@@ -101,12 +97,12 @@ public:
   int getPoissonDepth() const { return poisson_depth_; }
   /** Faces whose centroid is farther than trim_factor × mean spacing from every input point are
     * removed (in regions, see setMinimumTrimmedRegion); 0 disables trimming. Defaults 3 and 20
-    * faces, measured on random area-uniform samples (5k–60k) of a sphere and a torus, where every
-    * face is true surface: with factor 2 (any region) or factor 2.5–3 with single faces, 5 to
-    * 5,800 faces are trimmed into pinholes (random samples leave gaps up to ~3.9 spacings); with
-    * factor ≥ 2.5 and regions ≥ 20 faces, none. On open scans the closing bubble or skirt is
-    * one large region and goes (test TrimmingRemovesTheBubbleOfAnOpenScan). Factor 3 rather than
-    * 2.5 leaves room for noise, at +0.7 % more skirt area on an open random scan. */
+    * faces, chosen on random area-uniform samples of a sphere and a torus, where every face is
+    * true surface: a smaller factor, or single faces, trims pinholes into them (random samples
+    * leave gaps of a few spacings); factor ≥ 2.5 with regions ≥ 20 faces trims none. On open
+    * scans the closing bubble or skirt is one large region and goes (test
+    * TrimmingRemovesTheBubbleOfAnOpenScan). Factor 3 rather than 2.5 leaves room for noise, at a
+    * little more skirt area on an open random scan (figures in docs/). */
   void setTrimFactor(double trim_factor) { trim_factor_ = trim_factor; }
   double getTrimFactor() const { return trim_factor_; }
   /** Far faces are removed only where they form an edge-connected region of at least this many

@@ -47,11 +47,9 @@ struct HoleTriangulation {
   * (very good) heuristic for the lexicographic one. Loops longer than options.max_dp_vertices are
   * split first, recursively, by the chord (i, k) with the smallest ratio of its length to the
   * shorter loop arc between i and k, among chords leaving at least a quarter of the loop on each
-  * side; the chord is an ordinary fill edge afterwards (refinement may flip it).
-  * Measured on a wavy 3-D circle (one core of a shared, loaded 2-core machine): the whole DP takes
-  * 0.035 s at 200 vertices, 0.13 s at 300, 0.74 s at 500, 9.2 s at 1000; split into pieces of ≤ 200
-  * it takes 0.07 s at 500, 0.08 s at 1000, 0.26 s at 2000, at the price of a larger worst
-  * dihedral angle before refinement (0.92 instead of 0.53 rad at 500: the chords are not weighed). */
+  * side; the chord is an ordinary fill edge afterwards (refinement may flip it). The whole DP is
+  * cubic in the loop's length; the split keeps long loops fast at the price of a larger worst
+  * dihedral angle before refinement (the chords are not weighed; figures in docs/). */
 HoleTriangulation triangulateHoleLoop(const std::vector<Eigen::Vector3d>& loop,
                                       const std::vector<Eigen::Vector3d>& outside_apex,
                                       const std::vector<std::pair<int, int>>& forbidden,

@@ -15,9 +15,7 @@ namespace patchdict {
 /** \brief x ← x + f·(Σ_j w_ij x_j / Σ_j w_ij − x) with f = λ, then f = μ, per iteration; w_ij =
   * 1/|x_i − x_j| of the mesh given to the constructor (frozen: noise does not re-weight later
   * steps). Boundary vertices are smoothed along the boundary only, so rims keep their place.
-  * Measured (harness noise 0.5 × edge, vertex RMSE ×1e-3 at 16 iterations, `denoise --no-patches
-  * --base-iterations 16`): boot 2.872, lucy 1.350, demosthenes 3.378 — Open3D's filter_smooth_taubin
-  * (re-weighted each step) at its best iteration count: 2.929, 1.376, 3.398. */
+  * (Compared with Open3D's filter_smooth_taubin, re-weighted each step: figures in docs/.) */
 class TaubinSmoother {
 public:
   /** InverseDistance: w_ij = 1/|x_i − x_j| (the denoising base); Uniform: the plain mean of the

@@ -29,8 +29,7 @@ namespace patchdict {
   * Two modes:
   *  - setInputMesh: exact heights — every bin centre gets the height of the triangles whose XY
   *    projection (in the frame) contains it, barycentric-interpolated. Noise-free and complete:
-  *    binning random samples fills only a fraction of the bins (DESIGN.md measured 27–56 % with
-  *    200k samples at 16×16, side 0.03).
+  *    binning random samples fills only a fraction of the bins.
   *  - setInputCloud: binning, as in the paper — points within r, in the frame, binned on the
   *    grid; the bin's value is the mean Z of its points.
   * Bins nothing covers are unobserved (mask false, height 0).

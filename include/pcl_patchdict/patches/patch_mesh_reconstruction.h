@@ -30,10 +30,10 @@ struct VertexPatchSample {
   *    it falls in, at that bin's height; positions are quantised to bin centres.
   *  - Bilinear (ours, the default): v keeps its own (x, y) in the frame and takes the patch height
   *    bilinearly interpolated there (linearly extrapolated over the outer half-bins); only the
-  *    height is taken from the patch, so vertices do not slide along the surface. Measured on
-  *    identity round trips (test ReliefAndBunnyIdentityRoundTrips): vertex RMSE 21–26 % lower
-  *    than BinCentres; surface PSNR 0.6–1.4 dB lower (a bin-centre point lies exactly on the
-  *    sampled surface, only displaced along it). Vertex positions are what inpainting is judged
+  *    height is taken from the patch, so vertices do not slide along the surface. On identity
+  *    round trips (test ReliefAndBunnyIdentityRoundTrips) its vertex RMSE is lower than
+  *    BinCentres' and its surface PSNR slightly lower (a bin-centre point lies exactly on the
+  *    sampled surface, only displaced along it); figures in docs/. Vertex positions are what inpainting is judged
   *    by, and FINDINGS.md shows tangential drift is what loses to the bi-Laplacian.
   * Estimates whose bins are unobserved, or whose height is more than half a patch side from the
   * vertex's own (another sheet of a folded surface), are skipped. Of three or more estimates,

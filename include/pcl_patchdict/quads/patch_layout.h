@@ -16,11 +16,9 @@ struct PatchLayoutParameters {
   double quad_length = 0.03;  ///< L, in the units of the surface given (normalised: unit cube)
   int overlap = 1;            ///< k: 4k offset seeds per quad
   int smoothing_iterations = 30;
-  /** Laplacian, the paper's setting, by default: its smoother coarse shape gives better quads and
-    * frames than Taubin's (measured at L = 0.03 — boot: X consistent across 91 % of quad pairs
-    * instead of 84 %, Z within 25° of the coarse normal at 97 % of seeds instead of 86 %); its
-    * shrinking (bunny: −7.6 % area) does not matter here, because patches are sampled from the
-    * input surface, not from the coarse one. */
+  /** Laplacian, the paper's setting, by default: its smoother coarse shape gives more consistent
+    * quads and frames than Taubin's (figures in docs/); its shrinking does not matter here, because
+    * patches are sampled from the input surface, not from the coarse one. */
   CoarseMeshEstimation::Method smoothing = CoarseMeshEstimation::Method::Laplacian;
   std::uint64_t seed = 0;
   int num_threads = 0;
