@@ -1,4 +1,5 @@
 #include "cli.h"
+#include "options.h"
 
 #include <pcl_patchdict/io/atomic_file.h>
 #include <pcl_patchdict/geometry/mesh_hygiene.h>
@@ -15,15 +16,42 @@ namespace pcl {
 namespace patchdict {
 namespace cli {
 
-Arguments::Arguments(const std::vector<std::string>& args, const std::set<std::string>& value_options,
-                     const std::set<std::string>& flag_options)
+Arguments::Arguments(const std::vector<std::string>& args, const CommandSpec& spec) : spec_(&spec)
 {
+  parse(args, {&spec});
+}
+
+Arguments::Arguments(const std::vector<std::string>& args, const std::vector<const CommandSpec*>& specs)
+    : spec_(specs.empty() ? nullptr : specs.front())
+{
+  parse(args, specs);
+}
+
+void Arguments::parse(const std::vector<std::string>& args, const std::vector<const CommandSpec*>& specs)
+{
+  const auto lookup = [&](std::string& name, std::vector<std::string>& deprecated) -> const OptionSpec* {
+    for (const CommandSpec* spec : specs) {
+      for (const auto& [old_name, new_name] : spec->deprecated)
+        if (name == old_name) {
+          deprecated.push_back("option --" + old_name + " is now spelled --" + new_name);
+          name = new_name;
+          break;
+        }
+      if (const OptionSpec* option = findOption(*spec, name))
+        return option;
+    }
+    return nullptr;
+  };
+  std::vector<std::string> deprecated;
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& arg = args[i];
     if (arg.size() < 3 || arg.compare(0, 2, "--") != 0) {
       if (arg.size() > 1 && arg[0] == '-' && arg != "-o")
         throw UsageError("unknown option '" + arg + "'");
       if (arg == "-o") {  // the one short option: -o OUT
+        std::string output = "output";
+        if (!lookup(output, deprecated))
+          throw UsageError("unknown option '-o' (this command writes no output file)");
         if (i + 1 >= args.size())
           throw UsageError("option -o needs a value");
         values_["output"] = args[++i];
@@ -39,21 +67,46 @@ Arguments::Arguments(const std::vector<std::string>& args, const std::set<std::s
       value = name.substr(equals + 1);
       name = name.substr(0, equals);
     }
-    if (flag_options.count(name)) {
+    const OptionSpec* option = lookup(name, deprecated);
+    if (!option)
+      throw UsageError("unknown option '--" + name + "'");
+    if (option->argument.empty()) {
       if (inline_value)
         throw UsageError("option --" + name + " takes no value");
       values_[name] = "1";
-    } else if (value_options.count(name)) {
+    } else {
       if (!inline_value) {
         if (i + 1 >= args.size())
           throw UsageError("option --" + name + " needs a value");
         value = args[++i];
       }
       values_[name] = value;
-    } else {
-      throw UsageError("unknown option '--" + name + "'");
     }
   }
+  if (!has("quiet") && !has("json"))
+    for (const std::string& text : deprecated)
+      note(false, text);
+}
+
+void Arguments::expectUsage() const
+{
+  bool ok = positionals_.size() >= spec_->min_positionals && positionals_.size() <= spec_->max_positionals;
+  for (const OptionSpec& option : spec_->options)
+    ok = ok && (!option.required || has(option.name));
+  if (!ok)
+    throw UsageError("usage: " + synopsis(*spec_) + " (see 'pcl_patchdict " + spec_->name + " --help')");
+}
+
+void Arguments::needs(const std::string& name, const std::string& other, const std::string& why) const
+{
+  if (has(name) && !has(other))
+    throw UsageError("--" + name + " needs --" + other + (why.empty() ? "" : ": " + why));
+}
+
+void Arguments::refuse(const std::string& name, const std::string& message) const
+{
+  if (has(name))
+    throw UsageError("--" + name + " " + message);
 }
 
 std::string Arguments::get(const std::string& name, const std::string& fallback) const
@@ -92,24 +145,6 @@ long long Arguments::getInt(const std::string& name, long long fallback, long lo
     throw UsageError("option --" + name + ": " + text + " is out of range [" + std::to_string(min_value) +
                      ", " + std::to_string(max_value) + "]");
   return value;
-}
-
-void Arguments::expectPositionals(std::size_t min_count, std::size_t max_count, const std::string& usage) const
-{
-  if (positionals_.size() < min_count || positionals_.size() > max_count)
-    throw UsageError("usage: " + usage);
-}
-
-const std::set<std::string>& commonValueOptions()
-{
-  static const std::set<std::string> options{"threads", "seed"};
-  return options;
-}
-
-const std::set<std::string>& commonFlagOptions()
-{
-  static const std::set<std::string> options{"json", "quiet"};
-  return options;
 }
 
 void applyCommonOptions(const Arguments& args)
@@ -248,6 +283,13 @@ void makeFolder(const std::string& path, const std::string& what)
   std::filesystem::create_directories(path, ec);
   if (ec)
     throw Error("cannot create the " + what + " folder '" + path + "': " + ec.message());
+}
+
+void checkInputExists(const std::string& path, const std::string& what)
+{
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
+    throw Error(what + " '" + path + "': no such file");
 }
 
 void note(bool quiet, const std::string& text)

@@ -21,32 +21,41 @@ struct UsageError : Error {
   using Error::Error;
 };
 
+struct CommandSpec;
+
 /** Parsed command line of one subcommand: positionals in order, options by name. */
 class Arguments {
 public:
-  /** value_options take a value (--name V or --name=V); flag_options take none. Unknown options
-    * and missing values are UsageErrors. */
-  Arguments(const std::vector<std::string>& args, const std::set<std::string>& value_options,
-            const std::set<std::string>& flag_options);
+  /** The options of `spec`'s table (options.h) and the common ones: value options take a value
+    * (--name V or --name=V), flags none; -o V is --output V. An option not in the table, a missing
+    * value or a value given to a flag is a UsageError; a deprecated spelling is read as the new one
+    * (noted on stderr unless --quiet or --json). */
+  Arguments(const std::vector<std::string>& args, const CommandSpec& spec);
+  /** The union of several paths' tables (denoise and fill-holes read IN before choosing one). */
+  Arguments(const std::vector<std::string>& args, const std::vector<const CommandSpec*>& specs);
 
   const std::vector<std::string>& positionals() const { return positionals_; }
   bool has(const std::string& name) const { return values_.count(name) > 0; }
   std::string get(const std::string& name, const std::string& fallback = "") const;
   double getDouble(const std::string& name, double fallback, double min_value, double max_value) const;
   long long getInt(const std::string& name, long long fallback, long long min_value, long long max_value) const;
-  /** Exactly `count` positionals, named for the usage message. */
-  void expectPositionals(std::size_t min_count, std::size_t max_count, const std::string& usage) const;
+  /** The table's positional count and required options; UsageError "usage: SYNOPSIS" otherwise. */
+  void expectUsage() const;
+  /** UsageError "--name needs --other" when `name` is given without `other`. */
+  void needs(const std::string& name, const std::string& other, const std::string& why = "") const;
+  /** UsageError "--name: message" when `name` is given. */
+  void refuse(const std::string& name, const std::string& message) const;
 
 private:
+  void parse(const std::vector<std::string>& args, const std::vector<const CommandSpec*>& specs);
+  const CommandSpec* spec_ = nullptr;
   std::vector<std::string> positionals_;
   std::map<std::string, std::string> values_;
 };
 
-/** Options every subcommand accepts. */
-const std::set<std::string>& commonValueOptions();
-const std::set<std::string>& commonFlagOptions();
 /** Applies --threads. */
 void applyCommonOptions(const Arguments& args);
+
 
 /** Insertion-ordered JSON object; values are written as they are added. */
 class JsonObject {
@@ -99,6 +108,10 @@ void checkOutputPath(const std::string& output, const std::string& input);
 
 /** Creates `path` (and its parents) unless it exists; Error "cannot create the <what> folder …". */
 void makeFolder(const std::string& path, const std::string& what);
+
+/** Throws Error "<what> 'path': no such file" unless `path` exists: for inputs read only after the
+  * work (decompress --ref), so that a typo fails the command before its output is written. */
+void checkInputExists(const std::string& path, const std::string& what);
 
 /** Progress/notes line on stderr unless quiet. */
 void note(bool quiet, const std::string& text);

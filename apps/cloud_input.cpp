@@ -50,25 +50,6 @@ bool isCloudFile(const std::string& path)
   return ended && !faces;
 }
 
-std::set<std::string> cloudValueOptions(bool fill)
-{
-  auto values = commonValueOptions();
-  values.insert({"output", "noise", "bandwidth", "outlier-neighbours", "outlier-std", "residual-outliers", "dict"});
-  if (fill)
-    values.insert({"max-hole-diameter", "rim-width", "max-hole-pixels", "fit-ring", "height-field"});
-  return values;
-}
-
-std::set<std::string> cloudFlagOptions(bool fill)
-{
-  // --no-patches asks for the geometric result, which is what the cloud path gives: accepted.
-  auto flags = commonFlagOptions();
-  flags.insert({"no-outlier-filter", "absolute", "no-patches"});
-  if (fill)
-    flags.insert("denoise");
-  return flags;
-}
-
 const pcl::PCLPointField* findScalarField(const pcl::PCLPointCloud2& blob, const char* name)
 {
   for (const auto& field : blob.fields)
@@ -102,94 +83,111 @@ void writeScalar(pcl::PCLPointCloud2& blob, std::size_t point, const pcl::PCLPoi
   }
 }
 
+namespace {
+
+/** A PCD: every field kept in the blob; x/y/z (float32 or float64) and normals read by hand. */
+void readPcdCloud(const std::string& path, CloudInput& input)
+{
+  pcl::PointCloud<pcl::PointNormal>& cloud = *input.cloud;
+  input.from_pcd = true;
+  readPointCloudBlob(path, input.blob, input.origin, input.orientation);
+  // x/y/z may be float64 in a PCD; PCL's conversion wants float32: convert by hand.
+  cloud.resize(static_cast<std::size_t>(input.blob.width) * input.blob.height);
+  cloud.width = input.blob.width;
+  cloud.height = input.blob.height;
+  const pcl::PCLPointField* fields[6] = {
+      findScalarField(input.blob, "x"),        findScalarField(input.blob, "y"),
+      findScalarField(input.blob, "z"),        findScalarField(input.blob, "normal_x"),
+      findScalarField(input.blob, "normal_y"), findScalarField(input.blob, "normal_z")};
+  input.has_normals = fields[3] && fields[4] && fields[5];
+  const auto value = [&](std::size_t i, int f) { return readScalar(input.blob, i, *fields[f]); };
+  input.positions.resize(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    input.positions[i] = Eigen::Vector3d(value(i, 0), value(i, 1), value(i, 2));
+  std::vector<Eigen::Vector3d> clean(input.positions);
+  input.gross_outliers = removeGrossOutliers(clean);
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), high = -low;
+  for (const auto& x : clean)
+    if (x.allFinite()) {
+      low = low.cwiseMin(x);
+      high = high.cwiseMax(x);
+    }
+  // An organised frame is kept in its own (sensor) frame, where its grid is a pinhole image, unless
+  // it lies far from its origin (georeferenced), where float32 would lose its precision.
+  const bool sensor_frame = input.blob.height > 1 && (0.5 * (low + high)).norm() < 1e4;
+  if (low.allFinite() && !sensor_frame)
+    input.offset = 0.5 * (low + high);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Eigen::Vector3d x = clean[i] - input.offset;
+    pcl::PointNormal& p = cloud[i];
+    p.x = static_cast<float>(x.x());
+    p.y = static_cast<float>(x.y());
+    p.z = static_cast<float>(x.z());
+    double nx = 0, ny = 0, nz = 0;
+    if (input.has_normals) {
+      nx = value(i, 3);
+      ny = value(i, 4);
+      nz = value(i, 5);
+    }
+    const bool normal_ok = std::isfinite(nx) && std::isfinite(ny) && std::isfinite(nz);
+    p.normal_x = normal_ok ? static_cast<float>(nx) : 0.0f;
+    p.normal_y = normal_ok ? static_cast<float>(ny) : 0.0f;
+    p.normal_z = normal_ok ? static_cast<float>(nz) : 0.0f;
+    p.curvature = 0.0f;
+  }
+  cloud.sensor_origin_ = input.origin;  // in the cloud's shifted frame, like its points
+  cloud.sensor_origin_.head<3>() -= input.offset.cast<float>();
+  cloud.sensor_orientation_ = input.orientation;
+}
+
+/** A face-less PLY: positions and normals. */
+void readPlyCloud(const std::string& path, CloudInput& input)
+{
+  pcl::PointCloud<pcl::PointNormal>& cloud = *input.cloud;
+  TriangleMesh mesh;
+  readMesh(path, mesh);
+  if (mesh.numFaces() > 0)
+    throw Error("'" + path + "' is a mesh, not a cloud");
+  input.has_normals = mesh.hasNormals();
+  input.positions = mesh.vertices;
+  std::vector<Eigen::Vector3d> clean(input.positions);
+  input.gross_outliers = removeGrossOutliers(clean);
+  cloud.resize(mesh.vertices.size());
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), high = -low;
+  for (const auto& v : clean)
+    if (v.allFinite()) {
+      low = low.cwiseMin(v);
+      high = high.cwiseMax(v);
+    }
+  if (low.allFinite())
+    input.offset = 0.5 * (low + high);
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    pcl::PointNormal& p = cloud[i];
+    const Eigen::Vector3d x = clean[i] - input.offset;
+    p.x = static_cast<float>(x.x());
+    p.y = static_cast<float>(x.y());
+    p.z = static_cast<float>(x.z());
+    const Eigen::Vector3d n = input.has_normals ? mesh.normals[i] : Eigen::Vector3d::Zero();
+    p.normal_x = static_cast<float>(n.x());
+    p.normal_y = static_cast<float>(n.y());
+    p.normal_z = static_cast<float>(n.z());
+    p.curvature = 0.0f;
+  }
+  cloud.width = static_cast<std::uint32_t>(cloud.size());
+  cloud.height = 1;
+}
+
+}  // namespace
+
 CloudInput loadCloudInput(const std::string& path)
 {
   CloudInput input;
   input.cloud.reset(new pcl::PointCloud<pcl::PointNormal>);
   pcl::PointCloud<pcl::PointNormal>& cloud = *input.cloud;
-  if (formatFromPath(path) == MeshFormat::PCD) {
-    input.from_pcd = true;
-    readPointCloudBlob(path, input.blob, input.origin, input.orientation);
-    // x/y/z may be float64 in a PCD; PCL's conversion wants float32: convert by hand.
-    cloud.resize(static_cast<std::size_t>(input.blob.width) * input.blob.height);
-    cloud.width = input.blob.width;
-    cloud.height = input.blob.height;
-    const pcl::PCLPointField* fields[6] = {
-        findScalarField(input.blob, "x"),        findScalarField(input.blob, "y"),
-        findScalarField(input.blob, "z"),        findScalarField(input.blob, "normal_x"),
-        findScalarField(input.blob, "normal_y"), findScalarField(input.blob, "normal_z")};
-    input.has_normals = fields[3] && fields[4] && fields[5];
-    const auto value = [&](std::size_t i, int f) { return readScalar(input.blob, i, *fields[f]); };
-    input.positions.resize(cloud.size());
-    for (std::size_t i = 0; i < cloud.size(); ++i)
-      input.positions[i] = Eigen::Vector3d(value(i, 0), value(i, 1), value(i, 2));
-    std::vector<Eigen::Vector3d> clean(input.positions);
-    input.gross_outliers = removeGrossOutliers(clean);
-    Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), high = -low;
-    for (const auto& x : clean)
-      if (x.allFinite()) {
-        low = low.cwiseMin(x);
-        high = high.cwiseMax(x);
-      }
-    // An organised frame is kept in its own (sensor) frame, where its grid is a pinhole image, unless
-    // it lies far from its origin (georeferenced), where float32 would lose its precision.
-    const bool sensor_frame = input.blob.height > 1 && (0.5 * (low + high)).norm() < 1e4;
-    if (low.allFinite() && !sensor_frame)
-      input.offset = 0.5 * (low + high);
-    for (std::size_t i = 0; i < cloud.size(); ++i) {
-      const Eigen::Vector3d x = clean[i] - input.offset;
-      pcl::PointNormal& p = cloud[i];
-      p.x = static_cast<float>(x.x());
-      p.y = static_cast<float>(x.y());
-      p.z = static_cast<float>(x.z());
-      double nx = 0, ny = 0, nz = 0;
-      if (input.has_normals) {
-        nx = value(i, 3);
-        ny = value(i, 4);
-        nz = value(i, 5);
-      }
-      const bool normal_ok = std::isfinite(nx) && std::isfinite(ny) && std::isfinite(nz);
-      p.normal_x = normal_ok ? static_cast<float>(nx) : 0.0f;
-      p.normal_y = normal_ok ? static_cast<float>(ny) : 0.0f;
-      p.normal_z = normal_ok ? static_cast<float>(nz) : 0.0f;
-      p.curvature = 0.0f;
-    }
-    cloud.sensor_origin_ = input.origin;  // in the cloud's shifted frame, like its points
-    cloud.sensor_origin_.head<3>() -= input.offset.cast<float>();
-    cloud.sensor_orientation_ = input.orientation;
-  } else {
-    TriangleMesh mesh;
-    readMesh(path, mesh);
-    if (mesh.numFaces() > 0)
-      throw Error("'" + path + "' is a mesh, not a cloud");
-    input.has_normals = mesh.hasNormals();
-    input.positions = mesh.vertices;
-    std::vector<Eigen::Vector3d> clean(input.positions);
-    input.gross_outliers = removeGrossOutliers(clean);
-    cloud.resize(mesh.vertices.size());
-    Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), high = -low;
-    for (const auto& v : clean)
-      if (v.allFinite()) {
-        low = low.cwiseMin(v);
-        high = high.cwiseMax(v);
-      }
-    if (low.allFinite())
-      input.offset = 0.5 * (low + high);
-    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-      pcl::PointNormal& p = cloud[i];
-      const Eigen::Vector3d x = clean[i] - input.offset;
-      p.x = static_cast<float>(x.x());
-      p.y = static_cast<float>(x.y());
-      p.z = static_cast<float>(x.z());
-      const Eigen::Vector3d n = input.has_normals ? mesh.normals[i] : Eigen::Vector3d::Zero();
-      p.normal_x = static_cast<float>(n.x());
-      p.normal_y = static_cast<float>(n.y());
-      p.normal_z = static_cast<float>(n.z());
-      p.curvature = 0.0f;
-    }
-    cloud.width = static_cast<std::uint32_t>(cloud.size());
-    cloud.height = 1;
-  }
+  if (formatFromPath(path) == MeshFormat::PCD)
+    readPcdCloud(path, input);
+  else
+    readPlyCloud(path, input);
   Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d high = -low;
   std::size_t finite = 0;

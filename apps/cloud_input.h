@@ -19,11 +19,6 @@ namespace cli {
 /** True for .pcd, and for a .ply whose header declares no faces (a vertex-only PLY). */
 bool isCloudFile(const std::string& path);
 
-/** Options of the cloud path of `denoise` (fill = false) and `fill-holes` (fill = true), common ones
-  * included; the mesh commands' probes use them too, to find the input before choosing a path. */
-std::set<std::string> cloudValueOptions(bool fill);
-std::set<std::string> cloudFlagOptions(bool fill);
-
 /** A field of one float32 or float64 value, or nullptr. */
 const pcl::PCLPointField* findScalarField(const pcl::PCLPointCloud2& blob, const char* name);
 /** That field's value in point i, as double; and back (float32 fields round). */

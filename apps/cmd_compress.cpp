@@ -1,6 +1,7 @@
 // `pcl_patchdict compress IN --dict DICT.pdd -o OUT.pdc` and `decompress IN.pdc --dict DICT.pdd -o OUT`:
 // the .pdc codec (quad mesh + sparse codes), with the sizes of its parts and the PSNR of the round trip.
 #include "cli.h"
+#include "options.h"
 
 #include <pcl_patchdict/io/atomic_file.h>
 #include <pcl_patchdict/eval/mesh_render.h>
@@ -43,32 +44,23 @@ void addPsnr(JsonObject& json, const SurfaceDistance& d, const TriangleMesh& ref
 
 int runCompress(const std::vector<std::string>& raw)
 {
-  auto value_options = commonValueOptions();
-  value_options.insert({"output", "dict", "quad-length", "patch-scale", "overlap", "coefficients", "coefficient-bits",
-                        "position-bits", "subdivision", "smooth-iterations", "location-bits", "samples",
-                        "coverage-tolerance", "coverage-budget", "target-error", "atom-cost"});
-  auto flag_options = commonFlagOptions();
-  flag_options.insert({"keep-connectivity", "no-eval", "no-projection"});
-  const Arguments args(raw, value_options, flag_options);
-  const std::string usage =
-      "pcl_patchdict compress IN --dict DICT.pdd -o OUT.pdc [--quad-length L] [--coefficients S] "
-      "[--coefficient-bits B] [--position-bits B] [--patch-scale F] [--overlap K] [--subdivision N] [--keep-connectivity "
-      "[--location-bits B]] [--target-error E] [--atom-cost C] [--coverage-tolerance T] [--coverage-budget F] [--no-eval] [--json]";
-  args.expectPositionals(1, 1, usage);
-  if (!args.has("output") || !args.has("dict"))
-    throw UsageError("usage: " + usage);
+  const Arguments args(raw, commandSpec("compress"));
+  args.expectUsage();
+  args.needs("location-bits", "keep-connectivity", "only the kept connectivity stores vertex places");
+  if (args.has("no-eval"))
+    args.refuse("samples", "counts the samples of the PSNR, which --no-eval turns off");
   applyCommonOptions(args);
   const bool quiet = args.has("quiet") || args.has("json");
   PatchCodecParameters parameters;
   parameters.quad_length = args.getDouble("quad-length", parameters.quad_length, 1e-3, 1.0);
   parameters.patch_scale = args.getDouble("patch-scale", parameters.patch_scale, 0.5, 4.0);
   parameters.overlap = static_cast<int>(args.getInt("overlap", parameters.overlap, 0, 16));
-  parameters.coefficients = static_cast<int>(args.getInt("coefficients", parameters.coefficients, 1, 65536));
+  parameters.coefficients = static_cast<int>(args.getInt("sparsity", parameters.coefficients, 1, 65536));
   parameters.coefficient_bits = static_cast<int>(args.getInt("coefficient-bits", parameters.coefficient_bits, 2, 16));
   parameters.position_bits = static_cast<int>(args.getInt("position-bits", parameters.position_bits, 4, 24));
   parameters.subdivision = static_cast<int>(args.getInt("subdivision", parameters.subdivision, 0, 256));
   parameters.smoothing_iterations =
-      static_cast<int>(args.getInt("smooth-iterations", parameters.smoothing_iterations, 0, 10000));
+      static_cast<int>(args.getInt("smoothing-iterations", parameters.smoothing_iterations, 0, 10000));
   parameters.keep_connectivity = args.has("keep-connectivity");
   parameters.location_bits = static_cast<int>(args.getInt("location-bits", parameters.location_bits, 4, 16));
   parameters.project_quads = !args.has("no-projection");
@@ -149,14 +141,9 @@ int runCompress(const std::vector<std::string>& raw)
 
 int runDecompress(const std::vector<std::string>& raw)
 {
-  auto value_options = commonValueOptions();
-  value_options.insert({"output", "dict", "ref", "samples", "png"});
-  const Arguments args(raw, value_options, commonFlagOptions());
-  const std::string usage =
-      "pcl_patchdict decompress IN.pdc --dict DICT.pdd -o OUT [--ref REF] [--png PICTURE.png] [--json]";
-  args.expectPositionals(1, 1, usage);
-  if (!args.has("output") || !args.has("dict"))
-    throw UsageError("usage: " + usage);
+  const Arguments args(raw, commandSpec("decompress"));
+  args.expectUsage();
+  args.needs("samples", "ref", "they sample the score against the reference");
   applyCommonOptions(args);
   const bool quiet = args.has("quiet") || args.has("json");
   const auto samples = static_cast<std::size_t>(args.getInt("samples", 200000, 1000, 100000000));
@@ -166,6 +153,8 @@ int runDecompress(const std::vector<std::string>& raw)
     throw UsageError("--dict and -o name the same file");
   if (args.has("ref") && sameFile(args.get("ref"), output))
     throw UsageError("--ref and -o name the same file");
+  if (args.has("ref"))  // read after the output is written: a missing one fails before
+    checkInputExists(args.get("ref"), "--ref");
   if (args.has("png")) {
     checkOutputPath(args.get("png"), input);
     if (sameFile(args.get("png"), output))

@@ -4,6 +4,7 @@
 // alone and with patches, prints a table of errors and times, and writes the meshes and pictures
 // to a folder it names.
 #include "cli.h"
+#include "options.h"
 #include "repair_report.h"
 
 #include <pcl_patchdict/geometry/hole_filling.h>
@@ -62,159 +63,187 @@ double secondsOf(const std::function<void()>& work)
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-}  // namespace
+/** The demo's run: its folder, the clean truth, and the table's rows. */
+struct Demo {
+  std::string folder;
+  bool pictures = true;
+  std::uint64_t seed = 1;
+  std::string path;  ///< the bundled bunny
+  TriangleMesh truth;
+  double mean_edge = 0.0;
+  std::vector<Row> rows;
+  std::vector<int> missing;
+  HoledMesh holed;
 
-int runDemo(const std::vector<std::string>& raw)
+  std::string file(const std::string& name) const { return (std::filesystem::path(folder) / name).string(); }
+};
+
+/** One repair: the geometric base alone or with patches (self-similar, mode defaults), timed. */
+SparsePatchInpainter::Report repair(SparsePatchInpainter::Mode mode, const TriangleMesh& input, bool patches,
+                                    const std::vector<int>& missing, TriangleMesh& out, Row& row)
 {
-  auto value_options = commonValueOptions();
-  value_options.insert("out");
-  auto flag_options = commonFlagOptions();
-  flag_options.insert("no-pictures");
-  const Arguments args(raw, value_options, flag_options);
-  args.expectPositionals(0, 0, "pcl_patchdict demo [--out DIR] [--seed X] [--no-pictures] [--json]");
-  applyCommonOptions(args);
-  const bool quiet = args.has("quiet") || args.has("json");
-  const auto seed = static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62)));
-  const std::string out_dir = args.get("out", "pcl_patchdict_demo");
-  const bool pictures = !args.has("no-pictures");
+  SparsePatchInpainter inpainter;
+  inpainter.setMode(mode);
+  inpainter.setInputMesh(input);
+  if (!missing.empty())
+    inpainter.setMissingVertices(missing);
+  inpainter.setUsePatches(patches);
+  inpainter.setParameters(SparsePatchInpainter::defaultParameters(mode));
+  SparsePatchInpainter::Report report;
+  row.seconds = secondsOf([&] { inpainter.process(out, &report); });
+  return report;
+}
 
-  StageTimer timer(quiet);
-  timer.start("load");
-  const std::string path = findBundledMesh("bunny.obj");
-  TriangleMesh truth = loadMesh(path, quiet);
+// 0. The truth: the bunny cleaned, in the unit cube, its scan's own openings closed.
+void loadTruth(Demo& demo, bool quiet)
+{
+  demo.path = findBundledMesh("bunny.obj");
+  TriangleMesh truth = loadMesh(demo.path, quiet);
   const MeshCleanupResult cleanup = cleanMesh(truth);
   note(quiet, "  " + cleanup.summary());
   UnitCubeNormalization::fromMesh(truth).apply(truth);
-  {
-    // The scan's own openings (the bunny has 5, under its base) closed first, so that the truth is
-    // watertight and every hole the demo fills is one it punched.
-    HoleFilling closing;
-    closing.setInputMesh(truth);
-    closing.setOuterBoundaryFraction(std::numeric_limits<double>::infinity());
-    TriangleMesh closed;
-    closing.process(closed);
-    truth = std::move(closed);
-  }
-  const double mean_edge = truth.meanEdgeLength();
-  makeFolder(out_dir, "demo");
-  const auto file = [&](const std::string& name) { return (std::filesystem::path(out_dir) / name).string(); };
-  writeMesh(file("truth.ply"), truth);
-  std::vector<Row> rows;
+  // The scan's own openings (the bunny has 5, under its base) closed first, so that the truth is
+  // watertight and every hole the demo fills is one it punched.
+  HoleFilling closing;
+  closing.setInputMesh(truth);
+  closing.setOuterBoundaryFraction(std::numeric_limits<double>::infinity());
+  closing.process(demo.truth);
+  demo.mean_edge = demo.truth.meanEdgeLength();
+}
 
-  // Each repair twice: the geometric base alone, then with patches (self-similar, mode defaults).
-  const auto repair = [](SparsePatchInpainter::Mode mode, const TriangleMesh& input, bool patches,
-                         const std::vector<int>& missing, TriangleMesh& out, Row& row) {
-    SparsePatchInpainter inpainter;
-    inpainter.setMode(mode);
-    inpainter.setInputMesh(input);
-    if (!missing.empty())
-      inpainter.setMissingVertices(missing);
-    inpainter.setUsePatches(patches);
-    inpainter.setParameters(SparsePatchInpainter::defaultParameters(mode));
-    SparsePatchInpainter::Report report;
-    row.seconds = secondsOf([&] { inpainter.process(out, &report); });
-    return report;
-  };
-
-  // 1. Missing vertices: 20 % dropped; their stored positions are garbage (the origin).
-  timer.start("missing_vertices");
-  const std::vector<int> missing = pickMissingVertices(truth, 0.2, seed);
-  TriangleMesh damaged = truth;
-  for (int v : missing)
+// 1. Missing vertices: 20 % dropped; their stored positions are garbage (the origin).
+void demoMissingVertices(Demo& demo)
+{
+  demo.missing = pickMissingVertices(demo.truth, 0.2, demo.seed);
+  TriangleMesh damaged = demo.truth;
+  for (int v : demo.missing)
     damaged.vertices[static_cast<std::size_t>(v)] = Eigen::Vector3d::Zero();
   for (bool patches : {false, true}) {
     TriangleMesh repaired;
     Row row{"missing 20 %", patches ? "bi-Laplacian + patches" : "bi-Laplacian"};
-    repair(SparsePatchInpainter::Mode::MissingVertices, damaged, patches, missing, repaired, row);
-    row.error = 1e3 * vertexRMSE(truth, repaired, missing);
+    repair(SparsePatchInpainter::Mode::MissingVertices, damaged, patches, demo.missing, repaired, row);
+    row.error = 1e3 * vertexRMSE(demo.truth, repaired, demo.missing);
     row.key = patches ? "missing_patches" : "missing_bilaplacian";
-    rows.push_back(row);
-    writeMesh(file(patches ? "missing_patches.ply" : "missing_bilaplacian.ply"), repaired);
+    demo.rows.push_back(row);
+    writeMesh(demo.file(patches ? "missing_patches.ply" : "missing_bilaplacian.ply"), repaired);
   }
+}
 
-  // 2. Holes, Liepa alone and with patches, scored on the protocol's two measures.
-  const auto fill_holes = [&](const std::string& task, const std::string& name, const std::string& key,
-                              const TriangleMesh& clean, const HoledMesh& holed) {
-    writeMesh(file(name + "_input.ply"), holed.mesh);
-    if (pictures)
-      writeFillPicture(file(name + "_input.png"), holed.mesh, holed.mesh.numFaces(), 600);
-    for (bool patches : {false, true}) {
-      TriangleMesh filled;
-      Row row{task, patches ? "Liepa + patches" : "Liepa"};
-      const SparsePatchInpainter::Report report =
-          repair(SparsePatchInpainter::Mode::Holes, holed.mesh, patches, {}, filled, row);
-      if (patches)
-        row.method += report.relief ? " (relief found)" : " (smooth)";
-      const HoleFillScore score = scoreHoleFill(clean, holed, filled);
-      row.error = 1e3 * score.removed_to_output;
-      row.second_error = 1e3 * score.new_to_truth;
-      row.key = key + (patches ? "_patches" : "_liepa");
-      rows.push_back(row);
-      const std::string output = name + (patches ? "_patches" : "_liepa");
-      writeMesh(file(output + ".ply"), filled);
-      if (pictures)
-        writeFillPicture(file(output + ".png"), filled, holed.mesh.numFaces(), 600);
-    }
-  };
-  timer.start("holes");  // 6 of radius 0.035 (the protocol's largest)
-  const HoledMesh holed = punchHoles(truth, 6, 0.035, seed + 1);
-  fill_holes("holes r 0.035", "holes", "holes", truth, holed);
-  // The same on a relief, where a smooth fill has nothing to go on and patches copy the pattern: a
-  // sinusoidal relief (period 0.1, amplitude 0.02) with 6 holes of radius 0.04.
-  timer.start("relief_holes");
-  const TriangleMesh relief = makeSinusoidalRelief(100, 100, 0.02, 0.1);
-  writeMesh(file("relief_truth.ply"), relief);
-  fill_holes("relief holes", "relief_holes", "relief", relief, punchHoles(relief, 6, 0.04, seed + 3));
+// 2. Holes, Liepa alone and with patches, scored on the protocol's two measures.
+void demoFillHoles(Demo& demo, const std::string& task, const std::string& name, const std::string& key,
+                   const TriangleMesh& clean, const HoledMesh& holed)
+{
+  writeMesh(demo.file(name + "_input.ply"), holed.mesh);
+  if (demo.pictures)
+    writeFillPicture(demo.file(name + "_input.png"), holed.mesh, holed.mesh.numFaces(), 600);
+  for (bool patches : {false, true}) {
+    TriangleMesh filled;
+    Row row{task, patches ? "Liepa + patches" : "Liepa"};
+    const SparsePatchInpainter::Report report =
+        repair(SparsePatchInpainter::Mode::Holes, holed.mesh, patches, {}, filled, row);
+    if (patches)
+      row.method += report.relief ? " (relief found)" : " (smooth)";
+    const HoleFillScore score = scoreHoleFill(clean, holed, filled);
+    row.error = 1e3 * score.removed_to_output;
+    row.second_error = 1e3 * score.new_to_truth;
+    row.key = key + (patches ? "_patches" : "_liepa");
+    demo.rows.push_back(row);
+    const std::string output = name + (patches ? "_patches" : "_liepa");
+    writeMesh(demo.file(output + ".ply"), filled);
+    if (demo.pictures)
+      writeFillPicture(demo.file(output + ".png"), filled, holed.mesh.numFaces(), 600);
+  }
+}
 
-  // 3. Noise: σ = 0.5 × mean edge along the normals.
-  timer.start("denoise");
-  const TriangleMesh noisy = addNormalNoise(truth, 0.5 * mean_edge, seed + 2);
-  writeMesh(file("noise_input.ply"), noisy);
-  rows.push_back(Row{"noise 0.5 edge", "noisy input", 1e3 * vertexRMSE(truth, noisy), -1.0, 0.0, "noisy"});
+// 3. Noise: σ = 0.5 × mean edge along the normals.
+void demoDenoise(Demo& demo)
+{
+  const TriangleMesh noisy = addNormalNoise(demo.truth, 0.5 * demo.mean_edge, demo.seed + 2);
+  writeMesh(demo.file("noise_input.ply"), noisy);
+  demo.rows.push_back(Row{"noise 0.5 edge", "noisy input", 1e3 * vertexRMSE(demo.truth, noisy), -1.0, 0.0, "noisy"});
   for (bool patches : {false, true}) {
     TriangleMesh denoised;
     Row row{"noise 0.5 edge", patches ? "Taubin + self-similar patches" : "Taubin (discrepancy)"};
     repair(SparsePatchInpainter::Mode::Denoise, noisy, patches, {}, denoised, row);
-    row.error = 1e3 * vertexRMSE(truth, denoised);
+    row.error = 1e3 * vertexRMSE(demo.truth, denoised);
     row.key = patches ? "denoise_patches" : "denoise_taubin";
-    rows.push_back(row);
-    writeMesh(file(patches ? "denoise_patches.ply" : "denoise_taubin.ply"), denoised);
+    demo.rows.push_back(row);
+    writeMesh(demo.file(patches ? "denoise_patches.ply" : "denoise_taubin.ply"), denoised);
   }
-  timer.stop();
+}
 
-  if (args.has("json")) {
+// 4. The table (or --json).
+void printDemo(const Demo& demo, bool json_output, const StageTimer& timer)
+{
+  if (json_output) {
     JsonObject json;
-    json.add("command", "demo").add("input", path).add("vertices", truth.numVertices());
-    json.add("faces", truth.numFaces()).add("mean_edge", mean_edge).add("folder", out_dir);
-    json.add("missing_vertices", missing.size()).add("holes", holed.centres.size());
-    json.add("removed_vertices", holed.removed.size());
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      const std::string& key = rows[i].key;
-      json.add(key + "_error", rows[i].error);
-      if (rows[i].second_error >= 0.0)
-        json.add(key + "_new_vertices_error", rows[i].second_error);
+    json.add("command", "demo").add("input", demo.path).add("vertices", demo.truth.numVertices());
+    json.add("faces", demo.truth.numFaces()).add("mean_edge", demo.mean_edge).add("folder", demo.folder);
+    json.add("missing_vertices", demo.missing.size()).add("holes", demo.holed.centres.size());
+    json.add("removed_vertices", demo.holed.removed.size());
+    for (const Row& row : demo.rows) {
+      json.add(row.key + "_error", row.error);
+      if (row.second_error >= 0.0)
+        json.add(row.key + "_new_vertices_error", row.second_error);
     }
     JsonObject seconds = timer.json();
-    for (std::size_t i = 0; i < rows.size(); ++i)
-      seconds.add(rows[i].key, rows[i].seconds);
+    for (const Row& row : demo.rows)
+      seconds.add(row.key, row.seconds);
     json.add("seconds", seconds);
     std::cout << json.str() << '\n';
-    return 0;
+    return;
   }
   std::printf("pcl_patchdict demo: %s (%zu vertices, mean edge %.4g in the unit cube), seed %llu\n",
-              path.c_str(), truth.numVertices(), mean_edge, static_cast<unsigned long long>(seed));
+              demo.path.c_str(), demo.truth.numVertices(), demo.mean_edge, static_cast<unsigned long long>(demo.seed));
   std::printf("errors x1e-3 of the unit cube: missing = RMSE of the %zu dropped vertices; holes = mean distance of\n"
               "the %zu removed true vertices to the output (new vertices to the truth); noise = vertex RMSE\n\n",
-              missing.size(), holed.removed.size());
+              demo.missing.size(), demo.holed.removed.size());
   std::printf("  %-16s %-34s %10s %12s %9s\n", "task", "method", "error", "(new verts)", "seconds");
-  for (const Row& row : rows) {
+  for (const Row& row : demo.rows) {
     char second[32] = "";
     if (row.second_error >= 0.0)
       std::snprintf(second, sizeof second, "%.4f", row.second_error);
     std::printf("  %-16s %-34s %10.4f %12s %9.2f\n", row.task.c_str(), row.method.c_str(), row.error, second,
                 row.seconds);
   }
-  std::printf("\nmeshes%s in %s/\n", pictures ? " and pictures" : "", out_dir.c_str());
+  std::printf("\nmeshes%s in %s/\n", demo.pictures ? " and pictures" : "", demo.folder.c_str());
+}
+
+}  // namespace
+
+int runDemo(const std::vector<std::string>& raw)
+{
+  const Arguments args(raw, commandSpec("demo"));
+  args.expectUsage();
+  applyCommonOptions(args);
+  const bool quiet = args.has("quiet") || args.has("json");
+  Demo demo;
+  demo.seed = static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62)));
+  demo.folder = args.get("output", "pcl_patchdict_demo");
+  demo.pictures = !args.has("no-pictures");
+
+  StageTimer timer(quiet);
+  timer.start("load");
+  loadTruth(demo, quiet);
+  makeFolder(demo.folder, "demo");
+  writeMesh(demo.file("truth.ply"), demo.truth);
+
+  timer.start("missing_vertices");
+  demoMissingVertices(demo);
+  timer.start("holes");  // 6 of radius 0.035 (the protocol's largest)
+  demo.holed = punchHoles(demo.truth, 6, 0.035, demo.seed + 1);
+  demoFillHoles(demo, "holes r 0.035", "holes", "holes", demo.truth, demo.holed);
+  // The same on a relief, where a smooth fill has nothing to go on and patches copy the pattern: a
+  // sinusoidal relief (period 0.1, amplitude 0.02) with 6 holes of radius 0.04.
+  timer.start("relief_holes");
+  const TriangleMesh relief = makeSinusoidalRelief(100, 100, 0.02, 0.1);
+  writeMesh(demo.file("relief_truth.ply"), relief);
+  demoFillHoles(demo, "relief holes", "relief_holes", "relief", relief, punchHoles(relief, 6, 0.04, demo.seed + 3));
+  timer.start("denoise");
+  demoDenoise(demo);
+  timer.stop();
+
+  printDemo(demo, args.has("json"), timer);
   return 0;
 }
 

@@ -7,6 +7,7 @@
 // makes the result worse than the base (README "Measured").
 #include "cli.h"
 #include "cloud_input.h"
+#include "options.h"
 #include "repair_options.h"
 
 #include <pcl_patchdict/core/normalization.h>
@@ -19,32 +20,17 @@ namespace pcl {
 namespace patchdict {
 namespace cli {
 
-namespace {
-
-const char* const kUsage =
-    "pcl_patchdict denoise IN [--dict DICT.pdd | --self-similar | --no-patches] -o OUT [--noise S | --noise-edges K] "
-    "[--base-iterations T] [--discrepancy D] [--error-factor E] [--fidelity A] [--quad-length L] [--quad-factor C] [--sparsity S] [--report DIR [--ref REF]] [--json]";
-
-}  // namespace
-
 int runCloudDenoise(const std::vector<std::string>& raw);
 
 int runDenoise(const std::vector<std::string>& raw)
 {
   // A point cloud (.pcd, face-less .ply) takes the cloud path, with its own options.
   {
-    auto values = cloudValueOptions(false);
-    values.insert(repairValueOptions().begin(), repairValueOptions().end());
-    values.insert({"noise-edges", "error-factor", "fidelity", "base-iterations", "discrepancy"});
-    auto flags = cloudFlagOptions(false);
-    flags.insert("self-similar");
-    const Arguments probe(raw, values, flags);
+    const Arguments probe(raw, {&commandSpec("denoise"), &commandSpec("denoise", "cloud")});
     if (probe.positionals().size() == 1 && isCloudFile(probe.positionals()[0]))
       return runCloudDenoise(raw);
   }
-  const RepairCommandLine line = parseRepairCommand(
-      raw, kUsage, {"noise", "noise-edges", "error-factor", "fidelity", "base-iterations", "discrepancy"},
-      {"self-similar"}, true);
+  const RepairCommandLine line = parseRepairCommand(raw, commandSpec("denoise"), true);
   const Arguments& args = line.args;
   if (args.has("self-similar") && (args.has("dict") || args.has("no-patches")))
     throw UsageError("--self-similar excludes --dict and --no-patches");
@@ -52,6 +38,8 @@ int runDenoise(const std::vector<std::string>& raw)
     throw UsageError("--noise and --noise-edges exclude each other");
   if (args.has("mu"))
     throw UsageError("--mu weighs the patch constraints of inpaint and fill-holes; denoise's is --fidelity");
+  if (!args.has("dict") && !args.has("self-similar"))
+    refusePatchOptions(args, "denoise runs only with --dict or --self-similar");
   const bool quiet = line.quiet;
   const std::string& in_path = line.in_path;
   const std::string& out_path = line.out_path;

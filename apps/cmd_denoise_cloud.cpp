@@ -4,6 +4,7 @@
 // keeps positions and normals. Lengths are in units of the cloud's largest bounding-box side.
 #include "cli.h"
 #include "cloud_input.h"
+#include "options.h"
 
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/cloud/sparse_patch_cloud_inpainter.h>
@@ -24,71 +25,75 @@ namespace cli {
 
 namespace {
 
-const char* const kDenoiseUsage =
-    "pcl_patchdict denoise CLOUD.pcd|CLOUD.ply -o OUT.pcd|OUT.ply [--noise S] [--bandwidth H] [--absolute] "
-    "[--no-outlier-filter] [--outlier-neighbours K] [--outlier-std M] [--residual-outliers F] [--json]";
-const char* const kFillUsage =
-    "pcl_patchdict fill-holes CLOUD.pcd|CLOUD.ply -o OUT.pcd|OUT.ply [--max-hole-diameter D] [--denoise] [--absolute] "
-    "[--noise S] [--bandwidth H] [--no-outlier-filter] [--outlier-neighbours K] [--outlier-std M] [--residual-outliers F] [--json]";
+using Inpainter = SparsePatchCloudInpainter<pcl::PointNormal, pcl::PointNormal>;
 
-}  // namespace
-
-// denoise (fill = false) or fill-holes (fill = true) on a cloud.
-int runCloudRepair(const std::vector<std::string>& raw, bool fill)
-{
-  const char* const kCloudUsage = fill ? kFillUsage : kDenoiseUsage;
-  const auto values = cloudValueOptions(fill);
-  const auto flags = cloudFlagOptions(fill);
-  const Arguments args(raw, values, flags);
-  args.expectPositionals(1, 1, kCloudUsage);
-  if (!args.has("output"))
-    throw UsageError("usage: " + std::string(kCloudUsage));
-  applyCommonOptions(args);
-  if (!fill && args.has("max-hole-diameter"))
-    throw UsageError("--max-hole-diameter belongs to fill-holes");
-  const bool quiet = args.has("quiet") || args.has("json");
-  const std::string in_path = args.positionals()[0];
-  const std::string out_path = args.get("output");
-  checkOutputPath(out_path, in_path);
-  const MeshFormat out_format = formatFromPath(out_path);
-  if (out_format != MeshFormat::PCD && out_format != MeshFormat::PLY)
-    throw Error("output '" + out_path + "' must be a cloud file (.pcd, or .ply written without faces)");
+/** The command line of a cloud repair, read and checked before the input is. */
+struct CloudRepairLine {
+  bool fill = false, quiet = false;
+  std::string in_path, out_path;
+  MeshFormat out_format = MeshFormat::Unknown;
   CloudDenoisingParameters parameters;
+  double noise = 0.0, bandwidth = 0.0, max_hole_diameter = 0.15;
+};
+
+/** What the inpainter made, with the input record of every output point. */
+struct CloudRepairResult {
+  Inpainter::Mode mode = Inpainter::Mode::Denoise;
+  double scale = 1.0;  ///< the unit of the lengths given and reported
+  pcl::PointCloud<pcl::PointNormal> denoised;
+  CloudDenoisingReport report;
+  pcl::Indices records;  ///< the input record of every output point (kept, then added)
+  pcl::Indices filled;   ///< a depth image's filled pixels
+  std::size_t removed() const
+  {
+    return report.outlier_filter_removed + report.residual_removed + report.unfit_removed;
+  }
+};
+
+// 1. The command line.
+CloudRepairLine readCloudRepairLine(const Arguments& args, bool fill)
+{
+  args.expectUsage();
+  applyCommonOptions(args);
+  if (args.has("no-outlier-filter")) {
+    args.refuse("outlier-neighbours", "tunes the outlier pre-filter, which --no-outlier-filter turns off");
+    args.refuse("outlier-std", "tunes the outlier pre-filter, which --no-outlier-filter turns off");
+  }
+  CloudRepairLine line;
+  line.fill = fill;
+  line.quiet = args.has("quiet") || args.has("json");
+  line.in_path = args.positionals()[0];
+  line.out_path = args.get("output");
+  checkOutputPath(line.out_path, line.in_path);
+  line.out_format = formatFromPath(line.out_path);
+  if (line.out_format != MeshFormat::PCD && line.out_format != MeshFormat::PLY)
+    throw Error("output '" + line.out_path + "' must be a cloud file (.pcd, or .ply written without faces)");
+  CloudDenoisingParameters& parameters = line.parameters;
   parameters.outlier_filter = !args.has("no-outlier-filter");
   parameters.outlier_neighbours = static_cast<int>(args.getInt("outlier-neighbours", 50, 1, 1000));
   parameters.outlier_std = args.getDouble("outlier-std", 1.0, 0.0, 1e6);
   parameters.residual_outlier_factor = args.getDouble("residual-outliers", 4.0, 0.0, 1e6);
-  const double noise = args.getDouble("noise", 0.0, 0.0, 1e300);
-  const double bandwidth = args.getDouble("bandwidth", 0.0, 0.0, 1e300);
-  const double max_hole_diameter = args.getDouble("max-hole-diameter", 0.15, 1e-300, 1e300);
+  line.noise = args.getDouble("noise", 0.0, 0.0, 1e300);
+  line.bandwidth = args.getDouble("bandwidth", 0.0, 0.0, 1e300);
+  line.max_hole_diameter = args.getDouble("max-hole-diameter", 0.15, 1e-300, 1e300);
+  return line;
+}
 
-  StageTimer timer(quiet);
-  timer.start("load");
-  CloudInput input = loadCloudInput(in_path);  // an unreadable input is reported first
-  if (args.has("dict"))
-    throw UsageError("--dict: the cloud path fits local quadric patches and takes no dictionary (yet)");
+// 2. The repair: the inpainter (with or without normals), its completion and fill settings.
+CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line, const CloudInput& input)
+{
   const pcl::PointCloud<pcl::PointNormal>::Ptr& cloud = input.cloud;
+  CloudRepairResult result;
   // Lengths (--noise, --bandwidth, --max-hole-diameter, and the report's) are in units of the largest
   // bounding-box side, or the cloud's own with --absolute.
-  const double scale = args.has("absolute") ? 1.0 : input.scale;
-  parameters.noise_sigma = noise * scale;
-  parameters.bandwidth = bandwidth * scale;
-  note(quiet, "  " + std::to_string(cloud->size()) + " points" +
-                  (cloud->height > 1 ? " (organised " + std::to_string(cloud->width) + " x " +
-                                           std::to_string(cloud->height) + ")"
-                                     : std::string()) +
-                  (input.has_normals ? ", with normals" : ""));
-
-  timer.start("denoise");
-  // Normals are computed (and oriented) only when the output keeps them: the input had them.
-  pcl::PointCloud<pcl::PointNormal> denoised;
-  CloudDenoisingReport report;
-  pcl::Indices records;  // the input record of every output point (kept, then added)
-  pcl::Indices filled;   // a depth image's filled pixels
-  using Inpainter = SparsePatchCloudInpainter<pcl::PointNormal, pcl::PointNormal>;
-  const Inpainter::Mode mode = !fill ? Inpainter::Mode::Denoise
-                               : args.has("denoise") ? Inpainter::Mode::DenoiseAndComplete
-                                                     : Inpainter::Mode::Complete;
+  result.scale = args.has("absolute") ? 1.0 : input.scale;
+  const double scale = result.scale;
+  CloudDenoisingParameters parameters = line.parameters;
+  parameters.noise_sigma = line.noise * scale;
+  parameters.bandwidth = line.bandwidth * scale;
+  result.mode = !line.fill ? Inpainter::Mode::Denoise
+                : args.has("denoise") ? Inpainter::Mode::DenoiseAndComplete
+                                      : Inpainter::Mode::Complete;
   const auto run = [&](auto& inpainter, auto& out) {
     inpainter.setInputCloud(cloud);
     inpainter.setParameters(parameters);
@@ -96,11 +101,11 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
     if (cloud->height <= 1 && input.from_pcd &&
         (!input.origin.head<3>().isZero() || !input.orientation.isApprox(Eigen::Quaternionf::Identity())))
       inpainter.setViewpoint((input.origin.head<3>().cast<double>() - input.offset).eval());
-    inpainter.setMode(static_cast<typename std::decay_t<decltype(inpainter)>::Mode>(static_cast<int>(mode)));
+    inpainter.setMode(static_cast<typename std::decay_t<decltype(inpainter)>::Mode>(static_cast<int>(result.mode)));
     CloudCompletionParameters completion;
     // Not given: each fill's own bound (Poisson's gaps 0.15 × the largest side, a depth image's
     // max_hole_pixels, a height field's 150 spacings).
-    completion.max_hole_diameter = args.has("max-hole-diameter") ? max_hole_diameter * scale : 0.0;
+    completion.max_hole_diameter = args.has("max-hole-diameter") ? line.max_hole_diameter * scale : 0.0;
     completion.rim_width = args.getDouble("rim-width", completion.rim_width, 0.05, 10.0);
     inpainter.setCompletionParameters(completion);
     OrganizedFillParameters organized;
@@ -113,122 +118,148 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
     using Choice = typename std::decay_t<decltype(inpainter)>::HeightField;
     inpainter.setHeightField(height_field == "yes" ? Choice::Always : height_field == "no" ? Choice::Never : Choice::Auto);
     inpainter.process(out);
-    report = inpainter.getReport();
-    records = inpainter.getKeptIndices();
-    records.insert(records.end(), inpainter.getAddedSources().begin(), inpainter.getAddedSources().end());
+    result.report = inpainter.getReport();
+    result.records = inpainter.getKeptIndices();
+    result.records.insert(result.records.end(), inpainter.getAddedSources().begin(), inpainter.getAddedSources().end());
     if (inpainter.getReport().depth_image)
-      filled = inpainter.getAddedSources();
+      result.filled = inpainter.getAddedSources();
   };
+  // Normals are computed (and oriented) only when the output keeps them: the input had them.
   if (input.has_normals) {
     Inpainter inpainter;
-    run(inpainter, denoised);
+    run(inpainter, result.denoised);
   } else {
     SparsePatchCloudInpainter<pcl::PointNormal, pcl::PointXYZ> inpainter;
     pcl::PointCloud<pcl::PointXYZ> positions;
     run(inpainter, positions);
-    pcl::copyPointCloud(positions, denoised);
+    pcl::copyPointCloud(positions, result.denoised);
   }
-  const std::size_t removed = report.outlier_filter_removed + report.residual_removed + report.unfit_removed;
-  char line[240];
-  std::snprintf(line, sizeof line,
+  return result;
+}
+
+// 3. The notes on stderr.
+void noteCloudRepair(const CloudRepairLine& line, const CloudRepairResult& result)
+{
+  const CloudDenoisingReport& report = result.report;
+  const double scale = result.scale;
+  const bool quiet = line.quiet, fill = line.fill;
+  char text[240];
+  std::snprintf(text, sizeof text,
                 "  spacing %.4g, noise sigma %.4g (%s, %.2f x spacing), patch bandwidth %.2f x spacing; "
                 "removed %zu outliers (%zu pre-filter, %zu off their patch, %zu without neighbours)",
                 report.mean_spacing / scale, report.noise_sigma / scale, report.noise_estimated ? "estimated" : "given",
-                report.noise_sigma / report.mean_spacing, report.bandwidth / report.mean_spacing, removed,
+                report.noise_sigma / report.mean_spacing, report.bandwidth / report.mean_spacing, result.removed(),
                 report.outlier_filter_removed, report.residual_removed, report.unfit_removed);
-  note(quiet, line);
+  note(quiet, text);
   if (fill && report.depth_image) {
     const OrganizedFillReport& f = report.organized_fill;
-    std::snprintf(line, sizeof line,
+    std::snprintf(text, sizeof text,
                   "  depth image: %zu regions without depth; %zu holes filled (%zu pixels), %zu at depth "
                   "discontinuities, %zu open to the border, %zu too large; %zu fills in seen space dropped",
                   f.regions, f.holes_filled, f.pixels_filled, f.not_one_surface, f.touching_border, f.too_large,
                   f.free_space_dropped);
-    note(quiet, line);
+    note(quiet, text);
   } else if (fill && report.height_field_used) {
     const HeightFieldFillReport& h = report.height_field;
-    std::snprintf(line, sizeof line,
+    std::snprintf(text, sizeof text,
                   "  height field (cell %.3g): %zu empty regions; %zu holes filled with %zu points, %zu open to the "
                   "outside, %zu sampling gaps, %zu too large",
                   h.cell_size / scale, h.empty_components, h.holes_filled, h.points_added, h.rejected_border,
                   h.rejected_too_small, h.rejected_too_big);
-    note(quiet, line);
+    note(quiet, text);
   } else if (fill) {
     const CloudCompletionReport& c = report.completion;
-    std::snprintf(line, sizeof line,
+    std::snprintf(text, sizeof text,
                   "  Poisson depth %d: %zu gaps, %zu holes filled (%zu by implicits, %zu by splines), %zu from Poisson, "
                   "%zu wider than %.3g left open; %zu points added (lattice %.3g)",
                   c.poisson_depth, c.gaps, c.holes_filled, c.holes_implicit, c.holes_filled - c.holes_implicit,
-                  c.holes_from_poisson, c.holes_too_large, max_hole_diameter,
+                  c.holes_from_poisson, c.holes_too_large, line.max_hole_diameter,
                   c.points_added, c.lattice_spacing / scale);
-    note(quiet, line);
+    note(quiet, text);
   }
+}
 
-  timer.start("write");
+// 4a. A PCD read from a PCD: every field carried, the input's records with positions (and normals,
+// if it has them) replaced.
+void writeCarriedPcd(const CloudRepairLine& line, const CloudInput& input, const CloudRepairResult& result,
+                     std::size_t unchanged)
+{
+  const pcl::PointCloud<pcl::PointNormal>& denoised = result.denoised;
+  const pcl::PointCloud<pcl::PointNormal>& cloud = *input.cloud;
+  const pcl::Indices& records = result.records;
+  pcl::PCLPointCloud2 out;
+  const pcl::PCLPointField* fx = findScalarField(input.blob, "x");
+  const pcl::PCLPointField* fy = findScalarField(input.blob, "y");
+  const pcl::PCLPointField* fz = findScalarField(input.blob, "z");
+  const pcl::PCLPointField* fnx = input.has_normals ? findScalarField(input.blob, "normal_x") : nullptr;
+  const pcl::PCLPointField* fny = input.has_normals ? findScalarField(input.blob, "normal_y") : nullptr;
+  const pcl::PCLPointField* fnz = input.has_normals ? findScalarField(input.blob, "normal_z") : nullptr;
+  const auto writePoint = [&](pcl::PCLPointCloud2& blob, std::size_t i, const pcl::PointNormal& p) {
+    writeScalar(blob, i, *fx, p.x + input.offset.x());
+    writeScalar(blob, i, *fy, p.y + input.offset.y());
+    writeScalar(blob, i, *fz, p.z + input.offset.z());
+    if (fnx && fny && fnz) {
+      writeScalar(blob, i, *fnx, p.normal_x);
+      writeScalar(blob, i, *fny, p.normal_y);
+      writeScalar(blob, i, *fnz, p.normal_z);
+    }
+  };
+  const bool organised = denoised.height > 1;
+  if (organised) {
+    out = input.blob;
+    // Complete keeps every measured record as read: only filled pixels and dropped points change.
+    std::vector<char> changed(denoised.size(), result.mode != Inpainter::Mode::Complete);
+    for (const auto i : result.filled)
+      changed[static_cast<std::size_t>(i)] = 1;
+    for (std::size_t i = 0; i < denoised.size(); ++i)
+      if (changed[i] || !std::isfinite(denoised[i].x))
+        writePoint(out, i, denoised[i]);
+    out.is_dense = denoised.is_dense;
+  } else {
+    out.header = input.blob.header;
+    out.fields = input.blob.fields;
+    out.point_step = input.blob.point_step;
+    out.is_bigendian = input.blob.is_bigendian;
+    // Gross outliers (finite, but no measurement) are not carried even where the input is kept.
+    std::vector<std::size_t> rows;
+    for (std::size_t i = 0; i < records.size(); ++i)
+      if (i >= unchanged || std::isfinite(cloud[static_cast<std::size_t>(records[i])].x) ||
+          !input.positions[static_cast<std::size_t>(records[i])].allFinite())
+        rows.push_back(i);
+    out.height = 1;
+    out.width = static_cast<std::uint32_t>(rows.size());
+    out.row_step = out.point_step * out.width;
+    out.data.resize(static_cast<std::size_t>(out.row_step));
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const std::size_t i = rows[k];
+      std::memcpy(out.data.data() + k * out.point_step,
+                  input.blob.data.data() + static_cast<std::size_t>(records[i]) * input.blob.point_step, out.point_step);
+      if (i >= unchanged)  // Complete keeps the input's records as they are
+        writePoint(out, k, denoised[i]);
+    }
+    out.is_dense = denoised.is_dense;
+  }
+  writePointCloudBlob(line.out_path, out, input.origin, input.orientation);
+}
+
+// 4. The output: a PCD with every field of a PCD input, a PCD of positions (and normals), or a
+// PLY cloud.
+void writeCloudOutput(const CloudRepairLine& line, const CloudInput& input, const CloudRepairResult& result)
+{
+  const pcl::PointCloud<pcl::PointNormal>& denoised = result.denoised;
+  const pcl::PointCloud<pcl::PointNormal>& cloud = *input.cloud;
+  const pcl::Indices& records = result.records;
   // Complete mode: the first output points are the input's, to be written exactly as read.
-  const std::size_t unchanged = mode == Inpainter::Mode::Complete ? report.output_points : 0;
+  const std::size_t unchanged = result.mode == Inpainter::Mode::Complete ? result.report.output_points : 0;
   const auto position = [&](std::size_t i) {
-    if (i < unchanged && !std::isfinite((*cloud)[static_cast<std::size_t>(records[i])].x))
+    if (i < unchanged && !std::isfinite(cloud[static_cast<std::size_t>(records[i])].x))
       return Eigen::Vector3d(Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));  // NaN or a gross outlier
     return i < unchanged ? input.positions[static_cast<std::size_t>(records[i])]
                          : Eigen::Vector3d(Eigen::Vector3d(denoised[i].x, denoised[i].y, denoised[i].z) + input.offset);
   };
-  if (out_format == MeshFormat::PCD && input.from_pcd) {
-    // Every field carried: the input's records, with positions (and normals, if it has them) replaced.
-    pcl::PCLPointCloud2 out;
-    const pcl::PCLPointField* fx = findScalarField(input.blob, "x");
-    const pcl::PCLPointField* fy = findScalarField(input.blob, "y");
-    const pcl::PCLPointField* fz = findScalarField(input.blob, "z");
-    const pcl::PCLPointField* fnx = input.has_normals ? findScalarField(input.blob, "normal_x") : nullptr;
-    const pcl::PCLPointField* fny = input.has_normals ? findScalarField(input.blob, "normal_y") : nullptr;
-    const pcl::PCLPointField* fnz = input.has_normals ? findScalarField(input.blob, "normal_z") : nullptr;
-    const auto writePoint = [&](pcl::PCLPointCloud2& blob, std::size_t i, const pcl::PointNormal& p) {
-      writeScalar(blob, i, *fx, p.x + input.offset.x());
-      writeScalar(blob, i, *fy, p.y + input.offset.y());
-      writeScalar(blob, i, *fz, p.z + input.offset.z());
-      if (fnx && fny && fnz) {
-        writeScalar(blob, i, *fnx, p.normal_x);
-        writeScalar(blob, i, *fny, p.normal_y);
-        writeScalar(blob, i, *fnz, p.normal_z);
-      }
-    };
-    const bool organised = denoised.height > 1;
-    if (organised) {
-      out = input.blob;
-      // Complete keeps every measured record as read: only filled pixels and dropped points change.
-      std::vector<char> changed(denoised.size(), mode != Inpainter::Mode::Complete);
-      for (const auto i : filled)
-        changed[static_cast<std::size_t>(i)] = 1;
-      for (std::size_t i = 0; i < denoised.size(); ++i)
-        if (changed[i] || !std::isfinite(denoised[i].x))
-          writePoint(out, i, denoised[i]);
-      out.is_dense = denoised.is_dense;
-    } else {
-      out.header = input.blob.header;
-      out.fields = input.blob.fields;
-      out.point_step = input.blob.point_step;
-      out.is_bigendian = input.blob.is_bigendian;
-      // Gross outliers (finite, but no measurement) are not carried even where the input is kept.
-      std::vector<std::size_t> rows;
-      for (std::size_t i = 0; i < records.size(); ++i)
-        if (i >= unchanged || std::isfinite((*cloud)[static_cast<std::size_t>(records[i])].x) ||
-            !input.positions[static_cast<std::size_t>(records[i])].allFinite())
-          rows.push_back(i);
-      out.height = 1;
-      out.width = static_cast<std::uint32_t>(rows.size());
-      out.row_step = out.point_step * out.width;
-      out.data.resize(static_cast<std::size_t>(out.row_step));
-      for (std::size_t k = 0; k < rows.size(); ++k) {
-        const std::size_t i = rows[k];
-        std::memcpy(out.data.data() + k * out.point_step,
-                    input.blob.data.data() + static_cast<std::size_t>(records[i]) * input.blob.point_step, out.point_step);
-        if (i >= unchanged)  // Complete keeps the input's records as they are
-          writePoint(out, k, denoised[i]);
-      }
-      out.is_dense = denoised.is_dense;
-    }
-    writePointCloudBlob(out_path, out, input.origin, input.orientation);
-  } else if (out_format == MeshFormat::PCD) {
+  if (line.out_format == MeshFormat::PCD && input.from_pcd) {
+    writeCarriedPcd(line, input, result, unchanged);
+  } else if (line.out_format == MeshFormat::PCD) {
     pcl::PCLPointCloud2 out;
     pcl::PointCloud<pcl::PointNormal> placed(denoised);
     for (std::size_t i = 0; i < placed.size(); ++i)
@@ -240,7 +271,7 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
       pcl::copyPointCloud(placed, positions);
       pcl::toPCLPointCloud2(positions, out);
     }
-    writePointCloudBlob(out_path, out, input.origin, input.orientation);
+    writePointCloudBlob(line.out_path, out, input.origin, input.orientation);
   } else {
     TriangleMesh out;  // vertices only: a PLY cloud (NaN points are not written)
     for (std::size_t i = 0; i < denoised.size(); ++i) {
@@ -252,106 +283,151 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
       if (input.has_normals)
         out.normals.emplace_back(p.normal_x, p.normal_y, p.normal_z);
     }
-    writeMesh(out_path, out);
+    writeMesh(line.out_path, out);
   }
+}
+
+// 5a. An organised frame processed as a depth image: its camera, noise law, fill and free space.
+JsonObject depthImageJson(const CloudRepairResult& result, bool fill)
+{
+  const CloudDenoisingReport& report = result.report;
+  JsonObject image, camera, law;
+  camera.add("fx", report.camera.fx).add("fy", report.camera.fy).add("cx", report.camera.cx)
+      .add("cy", report.camera.cy).add("rms_pixels", report.camera.rms_pixels);
+  law.add("coefficient", report.depth_noise.coefficient).add("exponent", report.depth_noise.exponent)
+      .add("exponent_fitted", report.depth_noise.exponent_fitted).add("samples", report.depth_noise.samples)
+      .add("depth_low", report.depth_noise.depth_low).add("depth_high", report.depth_noise.depth_high);
+  image.add("camera", camera).add("noise_law", law).add("off_ray_points", report.off_ray_points)
+      .add("free_space_reverted", report.free_space_reverted);
+  if (report.depth_denoised_in_image) {
+    const DepthDenoisingReport& d = report.depth_denoising;
+    JsonObject denoising;
+    denoising.add("radius_near_pixels", d.radius_near).add("radius_far_pixels", d.radius_far)
+        .add("depth_near", d.depth_near).add("depth_far", d.depth_far).add("moved", d.moved)
+        .add("left", d.left).add("clamped", d.clamped).add("rms_shift_sigmas", d.rms_shift_sigmas)
+        .add("seconds", d.seconds);
+    image.add("denoising", denoising);
+  }
+  if (fill) {
+    const OrganizedFillReport& f = report.organized_fill;
+    JsonObject holes;
+    holes.add("regions", f.regions).add("filled", f.holes_filled).add("touching_border", f.touching_border)
+        .add("too_large", f.too_large).add("not_one_surface", f.not_one_surface)
+        .add("pixels_filled", f.pixels_filled).add("free_space_dropped", f.free_space_dropped);
+    const std::vector<long long> pixels(result.filled.begin(), result.filled.end());
+    holes.add("filled_pixels", pixels);
+    image.add("holes", holes);
+  }
+  return image;
+}
+
+// 5. --json.
+JsonObject cloudRepairJson(const CloudRepairLine& line, const CloudInput& input, const CloudRepairResult& result,
+                           const StageTimer& timer)
+{
+  const CloudDenoisingReport& report = result.report;
+  const double scale = result.scale;
+  const bool fill = line.fill;
+  const pcl::PointCloud<pcl::PointNormal>& cloud = *input.cloud;
+  JsonObject json;
+  json.add("command", fill ? "fill-holes" : "denoise").add("kind", "cloud").add("input", line.in_path).add("output", line.out_path);
+  json.add("points_in", report.input_points).add("nonfinite_points", report.nonfinite_points);
+  json.add("points_out", report.output_points + report.points_added)
+      .add("moved", result.mode == Inpainter::Mode::Complete ? std::size_t{0} : report.output_points);
+  json.add("added", report.points_added);
+  if (fill) {
+    const CloudCompletionReport& c = report.completion;
+    JsonObject holes;
+    holes.add("gaps", c.gaps).add("filled", c.holes_filled).add("too_large", c.holes_too_large)
+        .add("implicit", c.holes_implicit).add("from_poisson", c.holes_from_poisson).add("max_hole_diameter", line.max_hole_diameter)
+        .add("poisson_depth", c.poisson_depth).add("poisson_faces", c.poisson_faces)
+        .add("lattice_spacing", c.lattice_spacing / scale).add("density", c.density * scale * scale);
+    json.add("holes", holes);
+  }
+  if (report.height_field_used) {
+    const HeightFieldFillReport& h = report.height_field;
+    JsonObject field;
+    field.add("spacing", h.spacing / scale).add("cell", h.cell_size / scale)
+        .add("raster_width", h.raster_width).add("raster_height", h.raster_height)
+        .add("empty_components", h.empty_components).add("filled", h.holes_filled)
+        .add("open_to_outside", h.rejected_border).add("too_large", h.rejected_too_big)
+        .add("sampling_gaps", h.rejected_too_small).add("without_rim", h.rejected_no_rim)
+        .add("points_added", h.points_added).add("seconds", h.seconds);
+    json.add("height_field", field);
+  }
+  if (report.depth_image)
+    json.add("depth_image", depthImageJson(result, fill));
+  if (fill && !report.depth_image)
+    json.add("free_space_dropped", report.free_space_dropped);
+  json.add("removed_as_outliers", result.removed());
+  json.add("removed_by_prefilter", report.outlier_filter_removed)
+      .add("removed_off_patch", report.residual_removed)
+      .add("removed_without_neighbours", report.unfit_removed);
+  json.add("organised", cloud.height > 1).add("width", static_cast<std::size_t>(cloud.width))
+      .add("height", static_cast<std::size_t>(cloud.height));
+  json.add("spacing", report.mean_spacing / scale);
+  json.add("noise_sigma", report.noise_sigma / scale).add("noise_estimated", report.noise_estimated);
+  json.add("noise_sigma_over_spacing", report.noise_sigma / report.mean_spacing);
+  json.add("bandwidth", report.bandwidth / scale).add("bandwidth_over_spacing", report.bandwidth / report.mean_spacing);
+  json.add("mean_displacement", report.mean_displacement / scale);
+  std::vector<JsonObject> risks;
+  for (const auto& candidate : report.bandwidth_risks) {
+    JsonObject r;
+    r.add("bandwidth_over_spacing", candidate.factor).add("risk", candidate.risk / (scale * scale));
+    r.add("mean_squared_residual", candidate.mean_squared_residual / (scale * scale));
+    r.add("mean_leverage", candidate.mean_leverage);
+    risks.push_back(r);
+  }
+  json.add("bandwidth_risks", risks);
+  JsonObject stages;
+  stages.add("search", report.seconds_search).add("outliers", report.seconds_outliers)
+      .add("noise", report.seconds_noise).add("fit", report.seconds_fit).add("normals", report.seconds_normals);
+  if (fill)
+    stages.add("poisson", report.completion.seconds_poisson).add("gaps", report.completion.seconds_gaps)
+        .add("fill", report.completion.seconds_fill);
+  json.add("denoise_stages", stages).add("seconds", timer.json());
+  return json;
+}
+
+}  // namespace
+
+// denoise (fill = false) or fill-holes (fill = true) on a cloud.
+int runCloudRepair(const std::vector<std::string>& raw, bool fill)
+{
+  const Arguments args(raw, commandSpec(fill ? "fill-holes" : "denoise", "cloud"));
+  const CloudRepairLine line = readCloudRepairLine(args, fill);
+
+  StageTimer timer(line.quiet);
+  timer.start("load");
+  const CloudInput input = loadCloudInput(line.in_path);  // an unreadable input is reported first
+  if (args.has("dict"))
+    throw UsageError("--dict: the cloud path fits local quadric patches and takes no dictionary (yet)");
+  const pcl::PointCloud<pcl::PointNormal>::Ptr& cloud = input.cloud;
+  note(line.quiet, "  " + std::to_string(cloud->size()) + " points" +
+                       (cloud->height > 1 ? " (organised " + std::to_string(cloud->width) + " x " +
+                                                std::to_string(cloud->height) + ")"
+                                          : std::string()) +
+                       (input.has_normals ? ", with normals" : ""));
+
+  timer.start("denoise");
+  const CloudRepairResult result = repairCloud(args, line, input);
+  noteCloudRepair(line, result);
+
+  timer.start("write");
+  writeCloudOutput(line, input, result);
   timer.stop();
 
+  const CloudDenoisingReport& report = result.report;
   if (args.has("json")) {
-    JsonObject json;
-    json.add("command", fill ? "fill-holes" : "denoise").add("kind", "cloud").add("input", in_path).add("output", out_path);
-    json.add("points_in", report.input_points).add("nonfinite_points", report.nonfinite_points);
-    json.add("points_out", report.output_points + report.points_added)
-        .add("moved", mode == Inpainter::Mode::Complete ? std::size_t{0} : report.output_points);
-    json.add("added", report.points_added);
-    if (fill) {
-      const CloudCompletionReport& c = report.completion;
-      JsonObject holes;
-      holes.add("gaps", c.gaps).add("filled", c.holes_filled).add("too_large", c.holes_too_large)
-          .add("implicit", c.holes_implicit).add("from_poisson", c.holes_from_poisson).add("max_hole_diameter", max_hole_diameter)
-          .add("poisson_depth", c.poisson_depth).add("poisson_faces", c.poisson_faces)
-          .add("lattice_spacing", c.lattice_spacing / scale).add("density", c.density * scale * scale);
-      json.add("holes", holes);
-    }
-    if (report.height_field_used) {
-      const HeightFieldFillReport& h = report.height_field;
-      JsonObject field;
-      field.add("spacing", h.spacing / scale).add("cell", h.cell_size / scale)
-          .add("raster_width", h.raster_width).add("raster_height", h.raster_height)
-          .add("empty_components", h.empty_components).add("filled", h.holes_filled)
-          .add("open_to_outside", h.rejected_border).add("too_large", h.rejected_too_big)
-          .add("sampling_gaps", h.rejected_too_small).add("without_rim", h.rejected_no_rim)
-          .add("points_added", h.points_added).add("seconds", h.seconds);
-      json.add("height_field", field);
-    }
-    if (report.depth_image) {
-      // An organised frame processed as a depth image: its camera, noise law, fill and free space.
-      JsonObject image, camera, law;
-      camera.add("fx", report.camera.fx).add("fy", report.camera.fy).add("cx", report.camera.cx)
-          .add("cy", report.camera.cy).add("rms_pixels", report.camera.rms_pixels);
-      law.add("coefficient", report.depth_noise.coefficient).add("exponent", report.depth_noise.exponent)
-          .add("exponent_fitted", report.depth_noise.exponent_fitted).add("samples", report.depth_noise.samples)
-          .add("depth_low", report.depth_noise.depth_low).add("depth_high", report.depth_noise.depth_high);
-      image.add("camera", camera).add("noise_law", law).add("off_ray_points", report.off_ray_points)
-          .add("free_space_reverted", report.free_space_reverted);
-      if (report.depth_denoised_in_image) {
-        const DepthDenoisingReport& d = report.depth_denoising;
-        JsonObject denoising;
-        denoising.add("radius_near_pixels", d.radius_near).add("radius_far_pixels", d.radius_far)
-            .add("depth_near", d.depth_near).add("depth_far", d.depth_far).add("moved", d.moved)
-            .add("left", d.left).add("clamped", d.clamped).add("rms_shift_sigmas", d.rms_shift_sigmas)
-            .add("seconds", d.seconds);
-        image.add("denoising", denoising);
-      }
-      if (fill) {
-        const OrganizedFillReport& f = report.organized_fill;
-        JsonObject holes;
-        holes.add("regions", f.regions).add("filled", f.holes_filled).add("touching_border", f.touching_border)
-            .add("too_large", f.too_large).add("not_one_surface", f.not_one_surface)
-            .add("pixels_filled", f.pixels_filled).add("free_space_dropped", f.free_space_dropped);
-        const std::vector<long long> pixels(filled.begin(), filled.end());
-        holes.add("filled_pixels", pixels);
-        image.add("holes", holes);
-      }
-      json.add("depth_image", image);
-    }
-    if (fill && !report.depth_image)
-      json.add("free_space_dropped", report.free_space_dropped);
-    json.add("removed_as_outliers", removed);
-    json.add("removed_by_prefilter", report.outlier_filter_removed)
-        .add("removed_off_patch", report.residual_removed)
-        .add("removed_without_neighbours", report.unfit_removed);
-    json.add("organised", cloud->height > 1).add("width", static_cast<std::size_t>(cloud->width))
-        .add("height", static_cast<std::size_t>(cloud->height));
-    json.add("spacing", report.mean_spacing / scale);
-    json.add("noise_sigma", report.noise_sigma / scale).add("noise_estimated", report.noise_estimated);
-    json.add("noise_sigma_over_spacing", report.noise_sigma / report.mean_spacing);
-    json.add("bandwidth", report.bandwidth / scale).add("bandwidth_over_spacing", report.bandwidth / report.mean_spacing);
-    json.add("mean_displacement", report.mean_displacement / scale);
-    std::vector<JsonObject> risks;
-    for (const auto& candidate : report.bandwidth_risks) {
-      JsonObject r;
-      r.add("bandwidth_over_spacing", candidate.factor).add("risk", candidate.risk / (scale * scale));
-      r.add("mean_squared_residual", candidate.mean_squared_residual / (scale * scale));
-      r.add("mean_leverage", candidate.mean_leverage);
-      risks.push_back(r);
-    }
-    json.add("bandwidth_risks", risks);
-    JsonObject stages;
-    stages.add("search", report.seconds_search).add("outliers", report.seconds_outliers)
-        .add("noise", report.seconds_noise).add("fit", report.seconds_fit).add("normals", report.seconds_normals);
-    if (fill)
-      stages.add("poisson", report.completion.seconds_poisson).add("gaps", report.completion.seconds_gaps)
-          .add("fill", report.completion.seconds_fill);
-    json.add("denoise_stages", stages).add("seconds", timer.json());
-    std::cout << json.str() << '\n';
-  } else if (!quiet) {
+    std::cout << cloudRepairJson(line, input, result, timer).str() << '\n';
+  } else if (!line.quiet) {
     if (fill)
       std::printf("filled %zu holes with %zu points; %zu points kept of %zu (%zu outliers removed) -> %s\n",
-                  report.completion.holes_filled + report.completion.holes_from_poisson, report.points_added, report.output_points, report.input_points,
-                  removed, out_path.c_str());
+                  report.completion.holes_filled + report.completion.holes_from_poisson, report.points_added,
+                  report.output_points, report.input_points, result.removed(), line.out_path.c_str());
     else
       std::printf("denoised %zu of %zu points (%zu outliers removed) -> %s\n", report.output_points,
-                  report.input_points, removed, out_path.c_str());
+                  report.input_points, result.removed(), line.out_path.c_str());
   }
   return 0;
 }

@@ -1,6 +1,7 @@
 // `pcl_patchdict eval REF OUT`: how far OUT is from REF, in the metrics of the paper's protocol.
 // Lengths are in REF's unit-cube units (largest bbox side = 1) unless --absolute.
 #include "cli.h"
+#include "options.h"
 
 #include <pcl_patchdict/io/index_io.h>
 #include <pcl_patchdict/geometry/metrics.h>
@@ -15,14 +16,32 @@ namespace pcl {
 namespace patchdict {
 namespace cli {
 
+namespace {
+
+/** The text report of `eval`. */
+void printEval(bool absolute, const std::string& ref_path, const std::string& out_path, double rmse,
+               std::size_t vertex_count, bool symmetric, const SurfaceDistance& distance)
+{
+  const char* unit = absolute ? "input units" : "unit-cube units";
+  std::printf("eval %s vs %s (%s)\n", out_path.c_str(), ref_path.c_str(), unit);
+  if (!std::isnan(rmse))
+    std::printf("  vertex RMSE       %.6g over %zu vertices\n", rmse, vertex_count);
+  if (symmetric) {
+    std::printf("  surface distance  mean %.6g  rms %.6g  Hausdorff %.6g  (%zu samples per side)\n", distance.mean,
+                distance.rms, distance.hausdorff, distance.samples_per_side);
+    std::printf("  ref -> out        mean %.6g  max %.6g\n", distance.mean_ref_to_out, distance.max_ref_to_out);
+  }
+  std::printf("  out -> ref        mean %.6g  max %.6g\n", distance.mean_out_to_ref, distance.max_out_to_ref);
+  if (symmetric)
+    std::printf("  PSNR              %.2f dB (peak = bbox diagonal %.6g)\n", distance.psnr, distance.bbox_diagonal);
+}
+
+}  // namespace
+
 int runEval(const std::vector<std::string>& raw)
 {
-  auto value_options = commonValueOptions();
-  value_options.insert({"vertices", "samples"});
-  auto flag_options = commonFlagOptions();
-  flag_options.insert("absolute");
-  const Arguments args(raw, value_options, flag_options);
-  args.expectPositionals(2, 2, "pcl_patchdict eval REF OUT [--vertices IDX.txt] [--samples N] [--absolute] [--json]");
+  const Arguments args(raw, commandSpec("eval"));
+  args.expectUsage();
   applyCommonOptions(args);
   const bool quiet = args.has("quiet") || args.has("json");
   const auto samples = static_cast<std::size_t>(args.getInt("samples", 200000, 1000, 100000000));
@@ -106,18 +125,7 @@ int runEval(const std::vector<std::string>& raw)
     std::cout << json.str() << '\n';
     return 0;
   }
-  const char* unit = args.has("absolute") ? "input units" : "unit-cube units";
-  std::printf("eval %s vs %s (%s)\n", out_path.c_str(), ref_path.c_str(), unit);
-  if (!std::isnan(rmse))
-    std::printf("  vertex RMSE       %.6g over %zu vertices\n", rmse, indices.empty() ? ref.vertices.size() : indices.size());
-  if (symmetric) {
-    std::printf("  surface distance  mean %.6g  rms %.6g  Hausdorff %.6g  (%zu samples per side)\n", distance.mean,
-                distance.rms, distance.hausdorff, distance.samples_per_side);
-    std::printf("  ref -> out        mean %.6g  max %.6g\n", distance.mean_ref_to_out, distance.max_ref_to_out);
-  }
-  std::printf("  out -> ref        mean %.6g  max %.6g\n", distance.mean_out_to_ref, distance.max_out_to_ref);
-  if (symmetric)
-    std::printf("  PSNR              %.2f dB (peak = bbox diagonal %.6g)\n", distance.psnr, distance.bbox_diagonal);
+  printEval(args.has("absolute"), ref_path, out_path, rmse, indices.empty() ? ref.vertices.size() : indices.size(), symmetric, distance);
   return 0;
 }
 

@@ -3,6 +3,7 @@
 // The output keeps the input vertices first, bit-identical and in order, then the new ones.
 #include "cli.h"
 #include "cloud_input.h"
+#include "options.h"
 #include "repair_options.h"
 
 #include <pcl_patchdict/geometry/hole_filling.h>
@@ -19,30 +20,72 @@ namespace pcl {
 namespace patchdict {
 namespace cli {
 
+int runCloudFillHoles(const std::vector<std::string>& raw);
+
 namespace {
 
-const char* kUsage =
-    "pcl_patchdict fill-holes IN [--dict DICT.pdd | --no-patches] -o OUT [--max-hole-edges E] "
-    "[--max-hole-diameter D] [--absolute] [--surface auto|smooth|relief] [--hole-factor F] [--quad-length L] [--sparsity S] [--mu M] [--report DIR [--ref REF]] [--json]";
+/** --json of a mesh fill. */
+JsonObject fillHolesJson(const Arguments& args, const RepairCommandLine& line,
+                         const SparsePatchInpainter::Parameters& parameters, const TriangleMesh& mesh,
+                         const TriangleMesh& filled, const SparsePatchInpainter::Report& repair,
+                         const std::map<std::string, std::size_t>& reasons, const StageTimer& timer,
+                         const JsonObject& report_json)
+{
+  const HoleFilling::Report& report = repair.holes;
+  const std::string& in_path = line.in_path;
+  const std::string& out_path = line.out_path;
+  JsonObject json;
+  json.add("command", "fill-holes").add("input", in_path).add("output", out_path).add("method", "liepa");
+  json.add("input_vertices", mesh.vertices.size()).add("input_faces", mesh.faces.size());
+  json.add("output_vertices", filled.vertices.size()).add("output_faces", filled.faces.size());
+  json.add("holes_found", report.holes_found).add("holes_filled", report.holes_filled);
+  json.add("holes_skipped", report.holes_skipped);
+  JsonObject skipped;
+  for (const auto& [reason, count] : reasons)
+    skipped.add(reason, count);
+  json.add("skipped_reasons", skipped);
+  json.add("new_vertices", report.new_vertices).add("new_faces", report.new_faces);
+  json.add("fairing_solved", report.fairing_solved);
+  JsonObject holes;
+  for (std::size_t h = 0; h < report.holes.size(); ++h) {
+    const auto& hole = report.holes[h];
+    JsonObject entry;
+    entry.add("edges", hole.boundary.size()).add("length", hole.length).add("diameter", hole.diameter);
+    entry.add("status", toString(hole.skipped));
+    entry.add("new_vertices", hole.new_vertices.size()).add("new_faces", hole.new_faces.size());
+    holes.add(std::to_string(h), entry);
+  }
+  json.add("holes", holes);
+  if (repair.used_patches) {
+    json.add("surface", repair.relief ? "relief" : "smooth").add("prediction_gain", repair.relief_gain);
+    json.add("patch_stage", patchStageJson(repair.patches));
+    json.add("sparsity", parameters.sparsity).add("mu", parameters.constraint_weight);
+    json.add("mean_correction", repair.mean_correction);
+  }
+  json.add("repair_stages", repairStagesJson(repair));
+  JsonObject seconds = timer.json();
+  seconds.add("triangulation", report.seconds_triangulation)
+      .add("refinement", report.seconds_refinement)
+      .add("fairing", report.seconds_fairing);
+  json.add("seconds", seconds);
+  if (args.has("report"))
+    json.add("report", report_json);
+  return json;
+}
 
 }  // namespace
 
-int runCloudFillHoles(const std::vector<std::string>& raw);
 
 int runFillHoles(const std::vector<std::string>& raw)
 {
   {  // A point cloud (.pcd, face-less .ply) takes the cloud path, with its own options.
-    auto values = cloudValueOptions(true);
-    values.insert(repairValueOptions().begin(), repairValueOptions().end());
-    values.insert({"max-hole-edges", "hole-factor", "surface"});
-    const auto flags = cloudFlagOptions(true);
-    const Arguments probe(raw, values, flags);
+    const Arguments probe(raw, {&commandSpec("fill-holes"), &commandSpec("fill-holes", "cloud")});
     if (probe.positionals().size() == 1 && isCloudFile(probe.positionals()[0]))
       return runCloudFillHoles(raw);
   }
-  const RepairCommandLine line = parseRepairCommand(
-      raw, kUsage, {"max-hole-edges", "max-hole-diameter", "hole-factor", "surface"}, {"absolute"}, false);
+  const RepairCommandLine line = parseRepairCommand(raw, commandSpec("fill-holes"), false);
   const Arguments& args = line.args;
+  args.needs("absolute", "max-hole-diameter", "it is the one length given in the input's units");
   const bool quiet = line.quiet;
   const auto max_edges = static_cast<std::size_t>(args.getInt("max-hole-edges", 0, 0, 1LL << 40));
   const double max_diameter =
@@ -109,43 +152,7 @@ int runFillHoles(const std::vector<std::string>& raw)
       ++reasons[toString(hole.skipped)];
 
   if (args.has("json")) {
-    JsonObject json;
-    json.add("command", "fill-holes").add("input", in_path).add("output", out_path).add("method", "liepa");
-    json.add("input_vertices", mesh.vertices.size()).add("input_faces", mesh.faces.size());
-    json.add("output_vertices", filled.vertices.size()).add("output_faces", filled.faces.size());
-    json.add("holes_found", report.holes_found).add("holes_filled", report.holes_filled);
-    json.add("holes_skipped", report.holes_skipped);
-    JsonObject skipped;
-    for (const auto& [reason, count] : reasons)
-      skipped.add(reason, count);
-    json.add("skipped_reasons", skipped);
-    json.add("new_vertices", report.new_vertices).add("new_faces", report.new_faces);
-    json.add("fairing_solved", report.fairing_solved);
-    JsonObject holes;
-    for (std::size_t h = 0; h < report.holes.size(); ++h) {
-      const auto& hole = report.holes[h];
-      JsonObject entry;
-      entry.add("edges", hole.boundary.size()).add("length", hole.length).add("diameter", hole.diameter);
-      entry.add("status", toString(hole.skipped));
-      entry.add("new_vertices", hole.new_vertices.size()).add("new_faces", hole.new_faces.size());
-      holes.add(std::to_string(h), entry);
-    }
-    json.add("holes", holes);
-    if (repair.used_patches) {
-      json.add("surface", repair.relief ? "relief" : "smooth").add("prediction_gain", repair.relief_gain);
-      json.add("patch_stage", patchStageJson(repair.patches));
-      json.add("sparsity", parameters.sparsity).add("mu", parameters.constraint_weight);
-      json.add("mean_correction", repair.mean_correction);
-    }
-    json.add("repair_stages", repairStagesJson(repair));
-    JsonObject seconds = timer.json();
-    seconds.add("triangulation", report.seconds_triangulation)
-        .add("refinement", report.seconds_refinement)
-        .add("fairing", report.seconds_fairing);
-    json.add("seconds", seconds);
-    if (args.has("report"))
-      json.add("report", report_json);
-    std::cout << json.str() << '\n';
+    std::cout << fillHolesJson(args, line, parameters, mesh, filled, repair, reasons, timer, report_json).str() << '\n';
     return 0;
   }
   if (!args.has("quiet")) {

@@ -1,5 +1,6 @@
 // `pcl_patchdict info IN`: what a mesh is, and what is wrong with it (clouds: cmd_info_cloud.cpp).
 #include "cli.h"
+#include "options.h"
 #include "cloud_input.h"
 
 #include <pcl_patchdict/geometry/mesh_hygiene.h>
@@ -12,8 +13,8 @@ namespace cli {
 
 int runInfo(const std::vector<std::string>& raw)
 {
-  const Arguments args(raw, commonValueOptions(), commonFlagOptions());
-  args.expectPositionals(1, 1, "pcl_patchdict info IN [--json]");
+  const Arguments args(raw, commandSpec("info"));
+  args.expectUsage();
   applyCommonOptions(args);
   if (isCloudFile(args.positionals()[0]))
     return runCloudInfo(args);

@@ -1,6 +1,7 @@
 // `pcl_patchdict inpaint IN --missing IDX.txt [--dict DICT.pdd | --no-patches] -o OUT`: recovers
 // the positions of missing vertices (connectivity known) — bi-Laplacian base + patch correction.
 #include "cli.h"
+#include "options.h"
 #include "repair_options.h"
 
 #include <pcl_patchdict/io/index_io.h>
@@ -14,20 +15,10 @@ namespace pcl {
 namespace patchdict {
 namespace cli {
 
-namespace {
-
-const char* const kUsage =
-    "pcl_patchdict inpaint IN --missing IDX.txt [--dict DICT.pdd | --no-patches] -o OUT [--quad-length L] "
-    "[--quad-factor C] [--sparsity S] [--mu M] [--overlap K] [--atoms K] [--grid N] [--report DIR [--ref REF]] [--json]";
-
-}  // namespace
-
 int runInpaint(const std::vector<std::string>& raw)
 {
-  const RepairCommandLine line = parseRepairCommand(raw, kUsage, {"missing"}, {}, true);
+  const RepairCommandLine line = parseRepairCommand(raw, commandSpec("inpaint"), true);
   const Arguments& args = line.args;
-  if (!args.has("missing"))
-    throw UsageError("usage: " + std::string(kUsage));
   const bool quiet = line.quiet;
   const std::string& in_path = line.in_path;
   const std::string& out_path = line.out_path;

@@ -1,6 +1,7 @@
 // `pcl_patchdict patches IN -o X.pds`: the height-map patch set of a surface (section 3.2 of the
 // paper), in the input's unit-cube units, with an optional PNG contact sheet.
 #include "cli.h"
+#include "options.h"
 #include "surface_patches.h"
 
 
@@ -29,15 +30,8 @@ JsonObject normalisationJson(const SurfacePatches& surface)
 
 int runPatches(const std::vector<std::string>& raw)
 {
-  auto value_options = commonValueOptions();
-  value_options.insert({"output", "png", "grid", "quad-length", "overlap", "placement"});
-  const Arguments args(raw, value_options, commonFlagOptions());
-  const std::string usage =
-      "pcl_patchdict patches IN -o X.pds [--png SHEET.png] [--grid N] [--quad-length L] [--overlap K] "
-      "[--placement quads|random] [--json]";
-  args.expectPositionals(1, 1, usage);
-  if (!args.has("output"))
-    throw UsageError("usage: " + usage);
+  const Arguments args(raw, commandSpec("patches"));
+  args.expectUsage();
   applyCommonOptions(args);
   const bool quiet = args.has("quiet") || args.has("json");
   const int grid_size = static_cast<int>(args.getInt("grid", 16, 2, 64));

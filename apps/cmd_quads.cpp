@@ -1,6 +1,7 @@
 // `pcl_patchdict quads IN -o QUADS.obj`: the coarse shape, its field-aligned quad mesh and the
 // seeds with their frames — where the patches of IN go.
 #include "cli.h"
+#include "options.h"
 
 #include <pcl_patchdict/io/atomic_file.h>
 #include <pcl_patchdict/geometry/mesh_hygiene.h>
@@ -18,10 +19,6 @@ namespace patchdict {
 namespace cli {
 
 namespace {
-
-const char* kUsage =
-    "pcl_patchdict quads IN -o QUADS.obj [--quad-length L] [--overlap K] [--frames FRAMES.ply] "
-    "[--coarse COARSE.ply] [--png PICTURE.png] [--smoothing laplacian|taubin] [--smoothing-iterations N] [--seed X] [--json]";
 
 /** Seeds with their frames as an ASCII PLY point set: x y z, then the X, Y and Z axes, then the face. */
 void writeFrames(const std::string& path, const UnitCubeNormalization& normalization, const PatchLayout& layout)
@@ -49,13 +46,9 @@ void writeFrames(const std::string& path, const UnitCubeNormalization& normaliza
 
 int runQuads(const std::vector<std::string>& raw)
 {
-  std::set<std::string> values = commonValueOptions();
-  values.insert({"output", "quad-length", "overlap", "frames", "coarse", "smoothing-iterations", "smoothing", "png"});
-  const Arguments args(raw, values, commonFlagOptions());
-  args.expectPositionals(1, 1, kUsage);
+  const Arguments args(raw, commandSpec("quads"));
+  args.expectUsage();
   applyCommonOptions(args);
-  if (!args.has("output"))
-    throw UsageError(std::string("missing -o QUADS.obj; usage: ") + kUsage);
   const std::string input = args.positionals()[0], output = args.get("output");
   const bool quiet = args.has("quiet") || args.has("json");
   PatchLayoutParameters parameters;

@@ -2,6 +2,7 @@
 // input's own connectivity (section 3.4 of the paper) — the identity round trip, or through a
 // dictionary (sparse codes with --sparsity atoms, decoded) — scored against the input.
 #include "cli.h"
+#include "options.h"
 #include "surface_patches.h"
 
 #include <pcl_patchdict/patches/height_map_patch_extractor.h>
@@ -33,124 +34,137 @@ double codeThroughDictionary(const PatchDictionary& dictionary, int sparsity, Pa
   return rmse;
 }
 
-}  // namespace
+/** The command line of `reconstruct`, read and checked before any work. */
+struct ReconstructLine {
+  bool quiet = false;
+  std::string input, output, rule_name;
+  int grid_size = 16, overlap = 1, sparsity = 20;
+  double quad_length = 0.03;
+  SeedPlacement placement = SeedPlacement::Quads;
+  std::size_t samples = 200000;
+  std::uint64_t seed = 1;
+};
 
-int runReconstruct(const std::vector<std::string>& raw)
+// 1. The command line.
+ReconstructLine readReconstructLine(const Arguments& args)
 {
-  auto value_options = commonValueOptions();
-  value_options.insert({"output", "dict", "rule", "sparsity", "grid", "quad-length", "overlap", "placement", "samples"});
-  const Arguments args(raw, value_options, commonFlagOptions());
-  const std::string usage =
-      "pcl_patchdict reconstruct IN -o OUT [--dict DICT.pdd [--sparsity S]] [--rule bilinear|bin-centres] "
-      "[--grid N] [--quad-length L] [--overlap K] [--placement quads|random] [--samples N] [--json]";
-  args.expectPositionals(1, 1, usage);
-  if (!args.has("output"))
-    throw UsageError("usage: " + usage);
-  const std::string rule_name = args.get("rule", "bilinear");
-  if (rule_name != "bilinear" && rule_name != "bin-centres")
-    throw UsageError("option --rule: '" + rule_name + "' is not bilinear or bin-centres");
+  args.expectUsage();
+  ReconstructLine line;
+  line.rule_name = args.get("rule", "bilinear");
+  if (line.rule_name != "bilinear" && line.rule_name != "bin-centres")
+    throw UsageError("option --rule: '" + line.rule_name + "' is not bilinear or bin-centres");
   if (args.has("sparsity") && !args.has("dict"))
     throw UsageError("--sparsity needs --dict");
   applyCommonOptions(args);
-  const bool quiet = args.has("quiet") || args.has("json");
-  const int grid_size = static_cast<int>(args.getInt("grid", 16, 2, 64));
-  const double quad_length = args.getDouble("quad-length", 0.03, 1e-3, 0.5);
-  const int overlap = static_cast<int>(args.getInt("overlap", 1, 0, 16));
-  const SeedPlacement placement = parseSeedPlacement(args.get("placement", "quads"));
-  const int sparsity = static_cast<int>(args.getInt("sparsity", 20, 1, 1024));
-  const auto samples = static_cast<std::size_t>(args.getInt("samples", 200000, 1000, 100000000));
-  const auto seed = static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62)));
-  const std::string input = args.positionals()[0], output = args.get("output");
-  checkOutputPath(output, input);
-  if (formatFromPath(output) == MeshFormat::Unknown)
-    throw Error("output '" + output + "' must be a mesh or cloud file (.ply, .obj, .off, .stl, .pcd)");
-  if (args.has("dict") && sameFile(args.get("dict"), output))
+  line.quiet = args.has("quiet") || args.has("json");
+  line.grid_size = static_cast<int>(args.getInt("grid", 16, 2, 64));
+  line.quad_length = args.getDouble("quad-length", 0.03, 1e-3, 0.5);
+  line.overlap = static_cast<int>(args.getInt("overlap", 1, 0, 16));
+  line.placement = parseSeedPlacement(args.get("placement", "quads"));
+  line.sparsity = static_cast<int>(args.getInt("sparsity", 20, 1, 1024));
+  line.samples = static_cast<std::size_t>(args.getInt("samples", 200000, 1000, 100000000));
+  line.seed = static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62)));
+  line.input = args.positionals()[0];
+  line.output = args.get("output");
+  checkOutputPath(line.output, line.input);
+  if (formatFromPath(line.output) == MeshFormat::Unknown)
+    throw Error("output '" + line.output + "' must be a mesh or cloud file (.ply, .obj, .off, .stl, .pcd)");
+  if (args.has("dict") && sameFile(args.get("dict"), line.output))
     throw UsageError("--dict and -o name the same file");
+  return line;
+}
 
-  StageTimer timer(quiet);
-  timer.start("load");
-  TriangleMesh reference = loadMesh(input, quiet);
-  PatchDictionary::Ptr dictionary;
-  if (args.has("dict"))
-    dictionary = PatchDictionary::load(args.get("dict"), grid_size);
-  if (reference.faces.empty()) {
-    // A cloud has no vertices to move: its output is the cloud of the patches' observed bins.
-    if (placement != SeedPlacement::Quads)
-      throw Error("a point cloud needs --placement quads (its seeds lie on its Poisson surface)");
-    const UnitCubeNormalization normalization = UnitCubeNormalization::fromMesh(reference);
-    normalization.apply(reference);
-    timer.start("seeds");
-    const SeedsAndFrames seeds = computeSeedsAndFrames(reference, quad_length, overlap, seed, placement);
-    timer.start("extract");
-    HeightMapPatchExtractor extractor;
-    extractor.setInputCloud(reference);
-    extractor.setSeeds(seeds.seeds, seeds.frames);
-    extractor.setRadius(quad_length / std::sqrt(2.0));
-    extractor.setGridSize(grid_size);
-    PatchSet patches;
-    extractor.compute(patches);
-    const double patch_rmse = dictionary ? codeThroughDictionary(*dictionary, sparsity, patches) : 0.0;
-    timer.start("reconstruct");
-    TriangleMesh result;
-    result.vertices = patchSetToPoints(patches);
-    timer.start("eval");
-    const PointSetDistance to_input = pointsToPointsDistance(result.vertices, reference.vertices);
-    const PointSetDistance from_input = pointsToPointsDistance(reference.vertices, result.vertices);
-    timer.start("save");
-    normalization.invert(result);
-    writeMesh(output, result);
-    timer.stop();
-    if (args.has("json")) {
-      JsonObject json;
-      json.add("command", "reconstruct").add("input", input).add("output", output).add("input_kind", "cloud");
-      if (dictionary)
-        json.add("dictionary", args.get("dict")).add("sparsity", sparsity).add("patch_rmse", patch_rmse);
-      else
-        json.addNull("dictionary");
-      json.add("points_in", reference.vertices.size()).add("points_out", result.vertices.size());
-      json.add("patches", patches.numPatches()).add("grid_size", grid_size).add("quad_length", quad_length);
-      json.add("observed_fraction", patches.observedFraction()).add("units", "unit-cube");
-      json.add("output_to_input_mean", to_input.mean).add("output_to_input_rms", to_input.rms);
-      json.add("input_to_output_mean", from_input.mean).add("input_to_output_max", from_input.max);
-      json.add("seconds", timer.json());
-      std::cout << json.str() << '\n';
-    } else if (!quiet) {
-      std::printf("cloud round trip: %zu points from %zu patches, mean distance to the input %.4g, of the input to "
-                  "them %.4g (unit-cube units) -> %s\n",
-                  result.vertices.size(), patches.numPatches(), to_input.mean, from_input.mean, output.c_str());
-    }
-    return 0;
+// 2. A cloud has no vertices to move: its output is the cloud of the patches' observed bins.
+int reconstructCloud(const Arguments& args, const ReconstructLine& line, TriangleMesh reference,
+                     const PatchDictionary::Ptr& dictionary, StageTimer& timer)
+{
+  if (line.placement != SeedPlacement::Quads)
+    throw Error("a point cloud needs --placement quads (its seeds lie on its Poisson surface)");
+  args.refuse("rule", "reads patches at a mesh's vertices; a cloud's output is the patches' points");
+  args.refuse("samples", "samples a mesh's score; a cloud is scored point to point");
+  const UnitCubeNormalization normalization = UnitCubeNormalization::fromMesh(reference);
+  normalization.apply(reference);
+  timer.start("seeds");
+  const SeedsAndFrames seeds = computeSeedsAndFrames(reference, line.quad_length, line.overlap, line.seed, line.placement);
+  timer.start("extract");
+  HeightMapPatchExtractor extractor;
+  extractor.setInputCloud(reference);
+  extractor.setSeeds(seeds.seeds, seeds.frames);
+  extractor.setRadius(line.quad_length / std::sqrt(2.0));
+  extractor.setGridSize(line.grid_size);
+  PatchSet patches;
+  extractor.compute(patches);
+  const double patch_rmse = dictionary ? codeThroughDictionary(*dictionary, line.sparsity, patches) : 0.0;
+  timer.start("reconstruct");
+  TriangleMesh result;
+  result.vertices = patchSetToPoints(patches);
+  timer.start("eval");
+  const PointSetDistance to_input = pointsToPointsDistance(result.vertices, reference.vertices);
+  const PointSetDistance from_input = pointsToPointsDistance(reference.vertices, result.vertices);
+  timer.start("save");
+  normalization.invert(result);
+  writeMesh(line.output, result);
+  timer.stop();
+  if (args.has("json")) {
+    JsonObject json;
+    json.add("command", "reconstruct").add("input", line.input).add("output", line.output).add("input_kind", "cloud");
+    if (dictionary)
+      json.add("dictionary", args.get("dict")).add("sparsity", line.sparsity).add("patch_rmse", patch_rmse);
+    else
+      json.addNull("dictionary");
+    json.add("points_in", reference.vertices.size()).add("points_out", result.vertices.size());
+    json.add("patches", patches.numPatches()).add("grid_size", line.grid_size).add("quad_length", line.quad_length);
+    json.add("observed_fraction", patches.observedFraction()).add("units", "unit-cube");
+    json.add("output_to_input_mean", to_input.mean).add("output_to_input_rms", to_input.rms);
+    json.add("input_to_output_mean", from_input.mean).add("input_to_output_max", from_input.max);
+    json.add("seconds", timer.json());
+    std::cout << json.str() << '\n';
+  } else if (!line.quiet) {
+    std::printf("cloud round trip: %zu points from %zu patches, mean distance to the input %.4g, of the input to "
+                "them %.4g (unit-cube units) -> %s\n",
+                result.vertices.size(), patches.numPatches(), to_input.mean, from_input.mean, line.output.c_str());
   }
-  // Vertices no face uses keep their place: they are left out of the scores.
+  return 0;
+}
+
+/** The vertices some face uses (the others keep their place and are left out of the scores). */
+std::vector<int> referencedVertices(const TriangleMesh& mesh)
+{
   std::vector<int> referenced;
-  {
-    std::vector<char> used(reference.vertices.size(), 0);
-    for (const Face& f : reference.faces)
-      for (const auto v : f)
-        used[static_cast<std::size_t>(v)] = 1;
-    for (std::size_t v = 0; v < used.size(); ++v)
-      if (used[v])
-        referenced.push_back(static_cast<int>(v));
-  }
+  std::vector<char> used(mesh.vertices.size(), 0);
+  for (const Face& f : mesh.faces)
+    for (const auto v : f)
+      used[static_cast<std::size_t>(v)] = 1;
+  for (std::size_t v = 0; v < used.size(); ++v)
+    if (used[v])
+      referenced.push_back(static_cast<int>(v));
+  return referenced;
+}
+
+// 3. A mesh: its patches read back at its own vertices, scored against it.
+int reconstructMesh(const Arguments& args, const ReconstructLine& line, TriangleMesh reference,
+                    const PatchDictionary::Ptr& dictionary, StageTimer& timer)
+{
+  const std::vector<int> referenced = referencedVertices(reference);
   const UnitCubeNormalization normalization = UnitCubeNormalization::fromMesh(reference);
   normalization.apply(reference);
 
   timer.start("seeds");
-  const SeedsAndFrames seeds = computeSeedsAndFrames(reference, quad_length, overlap, seed, placement);
+  const SeedsAndFrames seeds = computeSeedsAndFrames(reference, line.quad_length, line.overlap, line.seed, line.placement);
   timer.start("extract");
-  PatchSet patches = extractMeshPatches(reference, seeds, quad_length, grid_size);
+  PatchSet patches = extractMeshPatches(reference, seeds, line.quad_length, line.grid_size);
   double patch_rmse = 0.0;
   if (dictionary) {
     timer.start("code");
-    patch_rmse = codeThroughDictionary(*dictionary, sparsity, patches);
+    patch_rmse = codeThroughDictionary(*dictionary, line.sparsity, patches);
   }
 
   timer.start("reconstruct");
   PatchMeshReconstruction reconstruction;
   reconstruction.setPatches(patches);
   reconstruction.setTargetMesh(reference);
-  reconstruction.setRule(rule_name == "bilinear" ? PatchMeshReconstruction::Rule::Bilinear
-                                                 : PatchMeshReconstruction::Rule::BinCentres);
+  reconstruction.setRule(line.rule_name == "bilinear" ? PatchMeshReconstruction::Rule::Bilinear
+                                                      : PatchMeshReconstruction::Rule::BinCentres);
   TriangleMesh result;
   PatchMeshReconstruction::Report report;
   reconstruction.compute(result, &report);
@@ -162,24 +176,25 @@ int runReconstruct(const std::vector<std::string>& raw)
   for (const int v : referenced)
     moved.push_back(result.vertices[static_cast<std::size_t>(v)]);
   const PointSetDistance to_surface = pointsToSurfaceDistance(moved, reference);
-  const SurfaceDistance distance = surfaceDistance(reference, result, samples, seed);
+  const SurfaceDistance distance = surfaceDistance(reference, result, line.samples, line.seed);
 
   timer.start("save");
   normalization.invert(result);
-  writeMesh(output, result);
+  writeMesh(line.output, result);
   timer.stop();
 
   if (args.has("json")) {
     JsonObject json;
-    json.add("command", "reconstruct").add("input", input).add("output", output).add("rule", rule_name);
+    json.add("command", "reconstruct").add("input", line.input).add("output", line.output).add("rule", line.rule_name);
     if (dictionary)
       json.add("dictionary", args.get("dict")).add("atoms", static_cast<long long>(dictionary->atoms().cols()))
-          .add("sparsity", sparsity).add("patch_rmse", patch_rmse);
+          .add("sparsity", line.sparsity).add("patch_rmse", patch_rmse);
     else
       json.addNull("dictionary");
     json.add("vertices", reference.vertices.size()).add("faces", reference.faces.size());
-    json.add("patches", patches.numPatches()).add("grid_size", grid_size).add("quad_length", quad_length);
-    json.add("overlap", overlap).add("placement", args.get("placement", "quads")).add("observed_fraction", patches.observedFraction());
+    json.add("patches", patches.numPatches()).add("grid_size", line.grid_size).add("quad_length", line.quad_length);
+    json.add("overlap", line.overlap).add("placement", args.get("placement", "quads"))
+        .add("observed_fraction", patches.observedFraction());
     json.add("vertices_covered", report.vertices_covered).add("vertices_from_ring", report.vertices_from_ring);
     json.add("vertices_unchanged", report.vertices_unchanged).add("mean_estimates", report.mean_estimates);
     json.add("units", "unit-cube").add("vertex_rmse", rmse);
@@ -187,13 +202,31 @@ int runReconstruct(const std::vector<std::string>& raw)
     json.add("surface_mean", distance.mean).add("surface_rms", distance.rms).add("hausdorff", distance.hausdorff);
     json.add("psnr_db", distance.psnr).add("seconds", timer.json());
     std::cout << json.str() << '\n';
-  } else if (!quiet) {
+  } else if (!line.quiet) {
     std::printf("%s round trip (%s rule, %zu patches): vertex RMSE %.4g, PSNR %.2f dB, mean vertex-to-surface %.4g "
                 "(unit-cube units) -> %s\n",
-                dictionary ? "dictionary" : "identity", rule_name.c_str(), patches.numPatches(), rmse, distance.psnr,
-                to_surface.mean, output.c_str());
+                dictionary ? "dictionary" : "identity", line.rule_name.c_str(), patches.numPatches(), rmse,
+                distance.psnr, to_surface.mean, line.output.c_str());
   }
   return 0;
+}
+
+}  // namespace
+
+int runReconstruct(const std::vector<std::string>& raw)
+{
+  const Arguments args(raw, commandSpec("reconstruct"));
+  const ReconstructLine line = readReconstructLine(args);
+
+  StageTimer timer(line.quiet);
+  timer.start("load");
+  TriangleMesh reference = loadMesh(line.input, line.quiet);
+  PatchDictionary::Ptr dictionary;
+  if (args.has("dict"))
+    dictionary = PatchDictionary::load(args.get("dict"), line.grid_size);
+  if (reference.faces.empty())
+    return reconstructCloud(args, line, std::move(reference), dictionary, timer);
+  return reconstructMesh(args, line, std::move(reference), dictionary, timer);
 }
 
 }  // namespace cli

@@ -1,10 +1,10 @@
 // pcl_patchdict — one tool, many subcommands (see `pcl_patchdict help`). Every failure is one line
 // on stderr and a non-zero exit: 1 for bad input or a failed run, 2 for a malformed command line.
 #include "cli.h"
+#include "options.h"
 
 #include <pcl_patchdict/io/atomic_file.h>
 
-#include <cstdio>
 #include <exception>
 #include <functional>
 #include <iostream>
@@ -15,82 +15,62 @@ namespace cli = pcl::patchdict::cli;
 
 namespace {
 
-struct Subcommand {
-  std::function<int(const std::vector<std::string>&)> run;
-  const char* synopsis;
-  const char* what;
-};
-
-const std::vector<std::pair<std::string, Subcommand>>& subcommands()
+/** The commands in the order of the option table (options.h), which gives their help. */
+const std::map<std::string, std::function<int(const std::vector<std::string>&)>>& subcommands()
 {
-  static const std::vector<std::pair<std::string, Subcommand>> table{
-      {"demo", {cli::runDemo, "demo [--out DIR] [--seed X] [--no-pictures] [--json]",
-                "the main job: the bundled bunny and a generated relief damaged, repaired with and without patches"}},
-      {"info", {cli::runInfo, "info IN [--json]", "statistics and hygiene report of a mesh or cloud"}},
-      {"eval", {cli::runEval, "eval REF OUT [--vertices IDX.txt] [--samples N] [--absolute] [--json]",
-                "vertex RMSE, symmetric surface distance, Hausdorff and PSNR of OUT against REF"}},
-      {"quads", {cli::runQuads,
-                 "quads IN -o QUADS.obj [--quad-length L] [--overlap K] [--frames FRAMES.ply] [--coarse COARSE.ply] "
-                 "[--json]",
-                 "coarse shape, field-aligned quad mesh, and the seeds with their frames"}},
-      {"patches", {cli::runPatches,
-                   "patches IN -o PATCHES.pds [--png SHEET.png] [--grid N] [--quad-length L] [--overlap K] [--json]",
-                   "height-map patch set (unit-cube units)"}},
-      {"learn", {cli::runLearn,
-                 "learn INPUT... -o DICT.pdd [--method ksvd|online] [--atoms K] [--sparsity S] [--iterations T] "
-                 "[--batch B] [--buffer N] [--grid N] [--quad-length L] [--overlap K] [--skip-bad] "
-                 "[--checkpoint FILE.pdk [--checkpoint-every N] [--stop-after N]] [--resume FILE.pdk] "
-                 "[--remove-mean] [--png ATOMS.png] [--json]",
-                 "learn a patch dictionary from .pds files, meshes, clouds, folders, globs or @lists (one input: "
-                 "K-SVD, local; several: online, streamed, resumable)"}},
-      {"reconstruct", {cli::runReconstruct,
-                       "reconstruct IN -o OUT [--dict DICT.pdd [--sparsity S]] [--rule bilinear|bin-centres] [--json]",
-                       "surface -> patches -> surface round trip (identity, or through a dictionary), scored"}},
-      {"compress", {cli::runCompress,
-                    "compress IN --dict DICT.pdd -o OUT.pdc [--quad-length L] [--patch-scale F] [--coefficients S] "
-                    "[--coefficient-bits B] [--position-bits B] [--overlap K] [--subdivision N] [--smooth-iterations T] "
-                    "[--keep-connectivity [--location-bits B]] [--no-projection] [--samples N] [--no-eval] [--json]",
-                    "compress as quad mesh + sparse codes (.pdc); reports bytes per part and PSNR"}},
-      {"decompress", {cli::runDecompress, "decompress IN.pdc --dict DICT.pdd -o OUT [--ref REF [--samples N]] [--json]",
-                      "decode a .pdc file (with the dictionary it was encoded with)"}},
-      {"denoise", {cli::runDenoise, "denoise IN [--dict DICT.pdd | --self-similar | --no-patches] -o OUT [--noise S] [--report DIR [--ref REF]] [--json]",
-                   "denoise: Taubin smoothing (iterations by the discrepancy principle); with --dict or --self-similar, corrected by patches"}},
-      {"inpaint", {cli::runInpaint, "inpaint IN --missing IDX.txt [--dict DICT.pdd | --no-patches] -o OUT [--quad-length L] [--report DIR [--ref REF]] [--json]",
-                   "recover missing vertices"}},
-      {"fill-holes", {cli::runFillHoles, "fill-holes IN [--dict DICT.pdd | --no-patches] -o OUT [--surface auto|smooth|relief] [--max-hole-edges E] [--max-hole-diameter D] [--absolute] [--report DIR [--ref REF]] [--json]",
-                      "fill holes: Liepa's triangulate-refine-fair, new vertices corrected by patches"}},
+  static const std::map<std::string, std::function<int(const std::vector<std::string>&)>> table{
+      {"demo", cli::runDemo},         {"info", cli::runInfo},
+      {"eval", cli::runEval},         {"quads", cli::runQuads},
+      {"patches", cli::runPatches},   {"learn", cli::runLearn},
+      {"reconstruct", cli::runReconstruct}, {"compress", cli::runCompress},
+      {"decompress", cli::runDecompress},   {"denoise", cli::runDenoise},
+      {"inpaint", cli::runInpaint},   {"fill-holes", cli::runFillHoles},
   };
   return table;
 }
 
+bool asksForHelp(const std::vector<std::string>& args)
+{
+  for (const std::string& arg : args)
+    if (arg == "--help" || arg == "-h")
+      return true;
+  return false;
+}
+
 }  // namespace
 
-int cli::runHelp(const std::vector<std::string>&)
+// `help`, `help --markdown`, `help COMMAND`.
+int cli::runHelp(const std::vector<std::string>& args)
 {
-  std::cout << "pcl_patchdict — repair and compress 3D surfaces with learned dictionaries of height-map patches\n\n"
-               "usage: pcl_patchdict COMMAND [ARGS] [OPTIONS]\n\ncommands:\n";
-  for (const auto& [name, command] : subcommands())
-    std::printf("  %s\n      %s\n", command.synopsis, command.what);
-  std::cout << "  help\n      this text\n\n"
-               "common options: --threads T, --seed X, --json (one JSON object on stdout), --quiet (no progress on stderr)\n"
-               "formats: PLY (ascii/binary), OBJ, OFF, STL meshes; PCD and face-less PLY clouds\n";
-  return 0;
+  if (args.empty()) {
+    std::cout << overviewHelp();
+    return 0;
+  }
+  if (args.size() == 1 && args[0] == "--markdown") {
+    std::cout << markdownHelp();
+    return 0;
+  }
+  if (args.size() == 1 && subcommands().count(args[0])) {
+    std::cout << commandHelp(args[0]);
+    return 0;
+  }
+  throw UsageError("usage: pcl_patchdict help [COMMAND | --markdown]");
 }
 
 int main(int argc, char** argv)
 {
   pcl::patchdict::removeTemporaryFilesOnInterrupt();
   const std::vector<std::string> all(argv + 1, argv + argc);
-  if (all.empty() || all[0] == "help" || all[0] == "--help" || all[0] == "-h")
+  if (all.empty() || all[0] == "--help" || all[0] == "-h")
     return cli::runHelp({});
   const std::string name = all[0];
   const std::vector<std::string> args(all.begin() + 1, all.end());
   try {
-    for (const auto& [command_name, command] : subcommands()) {
-      if (command_name != name)
-        continue;
-      return command.run(args);
-    }
+    if (name == "help")
+      return cli::runHelp(args);
+    const auto command = subcommands().find(name);
+    if (command != subcommands().end())
+      return asksForHelp(args) ? cli::runHelp({name}) : command->second(args);
     std::cerr << "pcl_patchdict: unknown command '" << name << "' (see 'pcl_patchdict help')\n";
     return 2;
   } catch (const cli::UsageError& e) {

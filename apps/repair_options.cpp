@@ -9,30 +9,26 @@ namespace pcl {
 namespace patchdict {
 namespace cli {
 
-const std::set<std::string>& repairValueOptions()
+const std::vector<std::string>& patchStageOptionNames()
 {
-  static const std::set<std::string> options = {
-      "dict",         "quad-length",     "quad-factor", "sparsity",       "mu",        "overlap",
-      "atoms",        "grid",            "patch-scale", "centre-sigma",   "observed-power",
-      "fit-scale",    "agreement-scale", "min-observed", "report", "ref", "error-scale", "smooth-iterations"};
-  return options;
+  static const std::vector<std::string> names = {
+      "quad-length",  "quad-factor",    "sparsity",  "mu",         "overlap",         "atoms",
+      "grid",         "patch-scale",    "centre-sigma", "observed-power", "fit-scale", "agreement-scale",
+      "min-observed", "smoothing-iterations", "surface", "hole-factor", "error-factor", "fidelity"};
+  return names;
 }
 
-RepairCommandLine parseRepairCommand(const std::vector<std::string>& raw, const std::string& usage,
-                                     const std::set<std::string>& own_values, const std::set<std::string>& own_flags,
+void refusePatchOptions(const Arguments& args, const std::string& why)
+{
+  for (const std::string& name : patchStageOptionNames())
+    args.refuse(name, "tunes the patch stage, which " + why);
+}
+
+RepairCommandLine parseRepairCommand(const std::vector<std::string>& raw, const CommandSpec& spec,
                                      bool keeps_vertex_order)
 {
-  auto value_options = commonValueOptions();
-  value_options.insert("output");
-  value_options.insert(repairValueOptions().begin(), repairValueOptions().end());
-  value_options.insert(own_values.begin(), own_values.end());
-  auto flag_options = commonFlagOptions();
-  flag_options.insert("no-patches");
-  flag_options.insert(own_flags.begin(), own_flags.end());
-  RepairCommandLine line{Arguments(raw, value_options, flag_options), false, "", ""};
-  line.args.expectPositionals(1, 1, usage);
-  if (!line.args.has("output"))
-    throw UsageError("usage: " + usage);
+  RepairCommandLine line{Arguments(raw, spec), false, "", ""};
+  line.args.expectUsage();
   applyCommonOptions(line.args);
   line.quiet = line.args.has("quiet") || line.args.has("json");
   line.in_path = line.args.positionals()[0];
@@ -65,15 +61,20 @@ void readRepairOptions(const Arguments& args, SparsePatchInpainter::Parameters& 
     throw UsageError("--dict and --no-patches exclude each other");
   if (args.has("ref") && !args.has("report"))
     throw UsageError("--ref is the reference of --report DIR");
+  args.needs("error-scale", "ref", "it scales the report's error colouring, which needs a reference");
+  if (args.has("no-patches"))
+    refusePatchOptions(args, "--no-patches turns off");
+  if (args.has("dict"))
+    args.refuse("atoms", "sizes a self-similar dictionary; --dict brings its own atoms");
   parameters.quad_length = args.getDouble("quad-length", 0.0, 0.0, 0.5);
   parameters.quad_length_factor = args.getDouble("quad-factor", parameters.quad_length_factor, 0.1, 1000.0);
   parameters.sparsity = static_cast<int>(args.getInt("sparsity", parameters.sparsity, 1, 1024));
   parameters.constraint_weight = args.getDouble("mu", parameters.constraint_weight, 0.0, 1e12);
   parameters.overlap = static_cast<int>(args.getInt("overlap", parameters.overlap, 0, 8));
   parameters.smoothing_iterations =
-      static_cast<int>(args.getInt("smooth-iterations", parameters.smoothing_iterations, 0, 10000));
+      static_cast<int>(args.getInt("smoothing-iterations", parameters.smoothing_iterations, 0, 10000));
   parameters.self_similar_atoms = static_cast<int>(args.getInt("atoms", parameters.self_similar_atoms, 1, 65536));
-  parameters.grid_size = static_cast<int>(args.getInt("grid", 0, 0, 256));
+  parameters.grid_size = static_cast<int>(args.getInt("grid", 0, 2, 256));
   parameters.patch_scale = args.getDouble("patch-scale", parameters.patch_scale, 0.05, 20.0);
   parameters.centre_sigma = args.getDouble("centre-sigma", parameters.centre_sigma, 0.0, 100.0);
   parameters.observed_power = args.getDouble("observed-power", parameters.observed_power, 0.0, 100.0);

@@ -13,27 +13,31 @@ namespace pcl {
 namespace patchdict {
 namespace cli {
 
-/** Value options of the patch stage (--quad-length, --sparsity, --mu, ...). */
-const std::set<std::string>& repairValueOptions();
+struct CommandSpec;
 
-/** The command line every repair command starts with: IN, -o OUT, the common and patch-stage
-  * options plus the command's own, --no-patches; --threads applied, the output checked
-  * (checkRepairOutput). */
+/** The options that tune the patch stage (--quad-length, --sparsity, --mu, ...): refused when the
+  * command runs without patches (refusePatchOptions). */
+const std::vector<std::string>& patchStageOptionNames();
+/** UsageError "--X tunes the patch stage, which `why`" for the first such option given. */
+void refusePatchOptions(const Arguments& args, const std::string& why);
+
+/** The command line of a mesh repair (inpaint, fill-holes, denoise), read with `spec`'s table:
+  * IN, -o OUT; --threads applied, the output checked (checkRepairOutput). */
 struct RepairCommandLine {
   Arguments args;
   bool quiet = false;  ///< --quiet or --json: no progress on stderr
   std::string in_path, out_path;
 };
-RepairCommandLine parseRepairCommand(const std::vector<std::string>& raw, const std::string& usage,
-                                     const std::set<std::string>& own_values, const std::set<std::string>& own_flags,
+RepairCommandLine parseRepairCommand(const std::vector<std::string>& raw, const CommandSpec& spec,
                                      bool keeps_vertex_order);
 /** Refuses an output that would overwrite the input or that is no mesh file; with
   * keeps_vertex_order, also STL (which does not keep vertex order). */
 void checkRepairOutput(const std::string& out_path, const std::string& in_path, bool keeps_vertex_order);
 /** loadMesh, and an Error naming `command` when the file has no faces. */
 TriangleMesh loadRepairMesh(const std::string& path, bool quiet, const std::string& command);
-/** Reads those options into `parameters` (whose values are the defaults); --dict with --no-patches
-  * and --ref without --report are UsageErrors. */
+/** Reads those options into `parameters` (whose values are the defaults); UsageErrors: --dict with
+  * --no-patches, a patch-stage option with --no-patches, --atoms with --dict, --ref without
+  * --report, --error-scale without --ref. */
 void readRepairOptions(const Arguments& args, SparsePatchInpainter::Parameters& parameters);
 
 /** What --report DIR [--ref REF [--error-scale E]] asks for. */

@@ -274,7 +274,9 @@ TEST(CliBadInput, OptionValuesOutOfRange)
       {"compress " + in + " --dict {}/dict16.pdd -o {}/out.pdc --coefficient-bits 0", 2, "--coefficient-bits"},
       {"compress " + in + " --dict {}/dict16.pdd -o {}/out.pdc --coefficient-bits 40", 2, "--coefficient-bits"},
       {"compress " + in + " --dict {}/dict16.pdd -o {}/out.pdc --position-bits 99", 2, "--position-bits"},
-      {"compress " + in + " --dict {}/dict16.pdd -o {}/out.pdc --coefficients 0", 2, "--coefficients"},
+      {"compress " + in + " --dict {}/dict16.pdd -o {}/out.pdc --sparsity 0", 2, "--sparsity"},
+      // --coefficients, compress's old spelling of --sparsity (test/codec uses it), still reads.
+      {"compress " + in + " --dict {}/dict16.pdd -o {}/out.pdc --coefficients 0", 2, "--sparsity"},
       {"compress " + in + " --dict {}/dict16.pdd -o {}/out.pdc --atom-cost -1", 2, "--atom-cost"},
       {"learn {}/absent.pds -o {}/out.pdd --atoms 0", 2, "--atoms"},
       {"learn {}/absent.pds -o {}/out.pdd --method magic", 2, "--method"},
@@ -486,4 +488,64 @@ TEST(CliBadInput, StrayVerticesAreNamed)
     EXPECT_NE(result.err.find("vertex 642"), std::string::npos) << result.err;
     EXPECT_FALSE(fs::exists(output));
   }
+}
+
+// Options the command would ignore, or that contradict each other or the mode, are refused (issue
+// 26): one line, exit code 2, nothing written. Each of these ran and exited 0 before.
+TEST(CliBadInput, IgnoredAndContradictoryOptions)
+{
+  const BadInputFixtures fixtures;
+  const std::string in = "{}/sphere.ply", out = " -o {}/out.ply";
+  const std::string compress = "compress " + in + " --dict {}/dict16.pdd -o {}/out.pdc";
+  expectCleanRefusals(fixtures, {
+      // --grid 0 was "the dictionary's" by accident of the range; explicit grids are 2-256.
+      {"denoise " + in + out + " --grid 0 --self-similar", 2, "--grid"},
+      {"inpaint " + in + " --missing {}/missing.txt" + out + " --grid 1", 2, "--grid"},
+      // Patch-stage options when no patch stage runs.
+      {"denoise " + in + out + " --grid 8", 2, "--grid tunes the patch stage"},
+      {"denoise " + in + out + " --sparsity 4", 2, "--sparsity tunes the patch stage"},
+      {"denoise " + in + out + " --no-patches --fidelity 0.5", 2, "--fidelity tunes the patch stage"},
+      {"fill-holes " + in + out + " --no-patches --quad-length 0.05", 2, "--quad-length tunes the patch stage"},
+      {"fill-holes " + in + out + " --no-patches --surface relief", 2, "--surface tunes the patch stage"},
+      {"inpaint " + in + " --missing {}/missing.txt" + out + " --no-patches --mu 1", 2, "--mu tunes the patch stage"},
+      // A dictionary brings its own atoms.
+      {"inpaint " + in + " --missing {}/missing.txt" + out + " --dict {}/dict16.pdd --atoms 10", 2, "--atoms"},
+      // Options that only mean something with another.
+      {"fill-holes " + in + out + " --report {}/report --error-scale 0.1", 2, "--error-scale needs --ref"},
+      {"fill-holes " + in + out + " --absolute", 2, "--absolute needs --max-hole-diameter"},
+      {compress + " --location-bits 8", 2, "--location-bits needs --keep-connectivity"},
+      {compress + " --no-eval --samples 5000", 2, "--samples"},
+      {"decompress {}/absent.pdc --dict {}/dict16.pdd -o {}/out.ply --samples 5000", 2, "--samples needs --ref"},
+      {"learn {}/absent.pds -o {}/out.pdd --method ksvd --batch 64", 2, "--batch"},
+      {"denoise {}/empty.pcd -o {}/out.pcd --no-outlier-filter --outlier-std 2", 2, "--outlier-std"},
+      // One spelling: the old --smooth-iterations is gone (--smoothing-iterations everywhere).
+      {"fill-holes " + in + out + " --smooth-iterations 3", 2, "unknown option '--smooth-iterations'"},
+      {"quads " + in + " -o {}/out.obj --smooth-iterations 3", 2, "unknown option"},
+      // An option of the other path (a mesh given, a cloud option asked for).
+      {"denoise " + in + out + " --bandwidth 0.1", 2, "unknown option '--bandwidth'"},
+      {"help --bogus", 2, "usage: pcl_patchdict help"},
+  });
+}
+
+// decompress reads --ref only after writing its output: a missing one is refused before.
+TEST(CliBadInput, MissingReferenceIsRefusedBeforeTheOutput)
+{
+  const BadInputFixtures fixtures;
+  ASSERT_EQ(runTool("compress " + q(fixtures.file("sphere.ply")) + " --dict " + q(fixtures.file("dict16.pdd")) +
+                    " -o " + q(fixtures.file("sphere.pdc")) + " --no-eval --quiet")
+                .exit_code,
+            0);
+  expectCleanRefusals(fixtures, {
+      {"decompress {}/sphere.pdc --dict {}/dict16.pdd -o {}/out.ply --ref {}/absent.ply", 1, "no such file"},
+  });
+}
+
+// -o where a command writes nothing was silently ignored; it is refused like any unknown option.
+TEST(CliBadInput, OutputOptionOfACommandWithoutOutput)
+{
+  const BadInputFixtures fixtures;
+  expectCleanRefusals(fixtures, {
+      {"info {}/sphere.ply -o {}/out.ply", 2, "unknown option '-o'"},
+      {"eval {}/sphere.ply {}/sphere.obj -o {}/out.txt", 2, "unknown option '-o'"},
+  });
 }

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <cstring>
 #include <random>
 
@@ -197,3 +198,18 @@ TEST(CliCloud, FillHolesAddsPointsInAHoleAndCarriesFieldsFromTheirNeighbours)
 }
 
 }  // namespace
+
+// reconstruct on a cloud outputs the patches' points: --rule (how a mesh vertex reads its patches)
+// and --samples (a mesh's surface score) would be ignored, so they are refused (issue 26).
+TEST(CliCloud, ReconstructRefusesTheMeshOnlyOptions)
+{
+  TempDir dir;
+  const std::string cloud = q(std::string(PCL_PATCHDICT_DATA_DIR) + "/kinect_desk_qvga.pcd");
+  for (const std::string option : {" --rule bin-centres", " --samples 5000"}) {
+    const auto result = runTool("reconstruct " + cloud + " -o " + q(dir.file("out.ply")) + option + " --quiet");
+    EXPECT_EQ(result.exit_code, 2) << option << "\n" << result.err;
+    EXPECT_TRUE(test_support::isOneLine(result.err)) << result.err;
+    EXPECT_NE(result.err.find(option.substr(1, option.find(' ', 1) - 1)), std::string::npos) << result.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("out.ply")));
+  }
+}
