@@ -89,7 +89,7 @@ int runDemo(const std::vector<std::string>& raw)
     // The scan's own openings (the bunny has 5, under its base) closed first, so that the truth is
     // watertight and every hole the demo fills is one it punched.
     HoleFilling closing;
-    closing.setInputMesh(truth);
+    closing.setInputMesh(std::make_shared<const TriangleMesh>(truth));
     closing.setOuterBoundaryFraction(std::numeric_limits<double>::infinity());
     TriangleMesh closed;
     closing.process(closed);
@@ -104,9 +104,8 @@ int runDemo(const std::vector<std::string>& raw)
   // Each repair twice: the geometric base alone, then with patches (self-similar, mode defaults).
   const auto repair = [](SparsePatchInpainter::Mode mode, const TriangleMesh& input, bool patches,
                          const std::vector<int>& missing, TriangleMesh& out, Row& row) {
-    SparsePatchInpainter inpainter;
-    inpainter.setMode(mode);
-    inpainter.setInputMesh(input);
+    SparsePatchInpainter inpainter(mode);
+    inpainter.setInputMesh(std::make_shared<const TriangleMesh>(input));
     if (!missing.empty())
       inpainter.setMissingVertices(missing);
     inpainter.setUsePatches(patches);

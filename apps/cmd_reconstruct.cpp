@@ -83,7 +83,7 @@ int runReconstruct(const std::vector<std::string>& raw)
     const SeedsAndFrames seeds = computeSeedsAndFrames(reference, quad_length, overlap, seed, placement);
     timer.start("extract");
     HeightMapPatchExtractor extractor;
-    extractor.setInputCloud(reference);
+    extractor.setInputCloud(std::make_shared<const TriangleMesh>(reference));
     extractor.setSeeds(seeds.seeds, seeds.frames);
     extractor.setRadius(quad_length / std::sqrt(2.0));
     extractor.setGridSize(grid_size);
@@ -147,8 +147,8 @@ int runReconstruct(const std::vector<std::string>& raw)
 
   timer.start("reconstruct");
   PatchMeshReconstruction reconstruction;
-  reconstruction.setPatches(patches);
-  reconstruction.setTargetMesh(reference);
+  reconstruction.setPatches(std::make_shared<const PatchSet>(patches));
+  reconstruction.setTargetMesh(std::make_shared<const TriangleMesh>(reference));
   reconstruction.setRule(rule_name == "bilinear" ? PatchMeshReconstruction::Rule::Bilinear
                                                  : PatchMeshReconstruction::Rule::BinCentres);
   TriangleMesh result;

@@ -296,16 +296,17 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
   Report local;
   auto t = Clock::now();
 
-  TriangleMesh surface = mesh;
+  const auto shared_surface = std::make_shared<TriangleMesh>(mesh);  // the classes below share it
+  TriangleMesh& surface = *shared_surface;
   const UnitCubeNormalization normalization = UnitCubeNormalization::fromMesh(surface);
   normalization.apply(surface);
 
   CoarseMeshEstimation coarse;
   coarse.setIterations(p.smoothing_iterations);
   coarse.setMethod(CoarseMeshEstimation::Method::Laplacian);
-  coarse.setInputMesh(surface);
-  TriangleMesh coarse_mesh;
-  coarse.process(coarse_mesh);
+  coarse.setInputMesh(shared_surface);
+  const auto coarse_mesh = std::make_shared<TriangleMesh>();
+  coarse.process(*coarse_mesh);
   QuadRemesher remesher;
   remesher.setInputMesh(coarse_mesh);
   remesher.setQuadLength(p.quad_length);
@@ -358,7 +359,7 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
 
   t = Clock::now();
   HeightMapPatchExtractor extractor;
-  extractor.setInputMesh(surface);
+  extractor.setInputMesh(shared_surface);
   extractor.setRadius(c.radius);
   extractor.setGridSize(grid);
   extractor.setNumberOfThreads(p.num_threads);

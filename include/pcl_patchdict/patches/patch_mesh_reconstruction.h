@@ -59,9 +59,10 @@ public:
     std::vector<char> off_surface;
   };
 
-  void setPatches(const PatchSet& patches) { patches_ = &patches; }
+  /** The patches, shared (kept alive until they are replaced). */
+  void setPatches(const std::shared_ptr<const PatchSet>& patches) { patches_ = patches; }
   /** The target mesh M_r: its vertices are re-estimated, its faces give the 1-rings. */
-  void setTargetMesh(const TriangleMesh& mesh) { target_ = &mesh; }
+  void setTargetMesh(const std::shared_ptr<const TriangleMesh>& mesh) { target_ = mesh; }
   void setRule(Rule rule) { rule_ = rule; }
   Rule getRule() const { return rule_; }
 
@@ -74,8 +75,8 @@ public:
 private:
   void checkInput() const;
 
-  const PatchSet* patches_ = nullptr;
-  const TriangleMesh* target_ = nullptr;
+  std::shared_ptr<const PatchSet> patches_;
+  std::shared_ptr<const TriangleMesh> target_;
   Rule rule_ = Rule::Bilinear;
 };
 
