@@ -82,9 +82,8 @@ struct Demo {
 SparsePatchInpainter::Report repair(SparsePatchInpainter::Mode mode, const TriangleMesh& input, bool patches,
                                     const std::vector<int>& missing, TriangleMesh& out, Row& row)
 {
-  SparsePatchInpainter inpainter;
-  inpainter.setMode(mode);
-  inpainter.setInputMesh(input);
+  SparsePatchInpainter inpainter(mode);
+  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(input));
   if (!missing.empty())
     inpainter.setMissingVertices(missing);
   inpainter.setUsePatches(patches);
@@ -105,7 +104,7 @@ void loadTruth(Demo& demo, bool quiet)
   // The scan's own openings (the bunny has 5, under its base) closed first, so that the truth is
   // watertight and every hole the demo fills is one it punched.
   HoleFilling closing;
-  closing.setInputMesh(truth);
+  closing.setInputMesh(std::make_shared<const TriangleMesh>(truth));
   closing.setOuterBoundaryFraction(std::numeric_limits<double>::infinity());
   closing.process(demo.truth);
   demo.mean_edge = demo.truth.meanEdgeLength();

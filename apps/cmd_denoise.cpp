@@ -64,9 +64,8 @@ int runDenoise(const std::vector<std::string>& raw)
     parameters.noise_sigma = noise_edges * UnitCubeNormalization::fromMesh(mesh).applyLength(mesh.meanEdgeLength());
 
   timer.start("denoise");
-  SparsePatchInpainter inpainter;
-  inpainter.setMode(SparsePatchInpainter::Mode::Denoise);
-  inpainter.setInputMesh(mesh);
+  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Denoise);
+  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
   inpainter.setDictionary(dictionary);
   inpainter.setUsePatches(use_patches);
   inpainter.setParameters(parameters);

@@ -115,15 +115,14 @@ int runFillHoles(const std::vector<std::string>& raw)
 
   timer.start("fill");
   HoleFilling filler;
-  filler.setInputMesh(mesh);
+  filler.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
   filler.setMaxHoleEdges(max_edges);
   double diameter_limit = max_diameter;
   if (std::isfinite(max_diameter) && !args.has("absolute"))
     diameter_limit = UnitCubeNormalization::fromMesh(mesh).invertLength(max_diameter);
   filler.setMaxHoleDiameter(diameter_limit > 0.0 ? diameter_limit : std::numeric_limits<double>::min());
-  SparsePatchInpainter inpainter;
-  inpainter.setMode(SparsePatchInpainter::Mode::Holes);
-  inpainter.setInputMesh(mesh);
+  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Holes);
+  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
   inpainter.setHoleFilling(filler);
   inpainter.setDictionary(dictionary);
   inpainter.setUsePatches(!args.has("no-patches"));

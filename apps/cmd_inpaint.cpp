@@ -34,8 +34,8 @@ int runInpaint(const std::vector<std::string>& raw)
   const PatchDictionary::ConstPtr dictionary = loadRepairDictionary(args, parameters.grid_size);
 
   timer.start("inpaint");
-  SparsePatchInpainter inpainter;
-  inpainter.setInputMesh(mesh);
+  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::MissingVertices);
+  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
   inpainter.setMissingVertices(missing);
   inpainter.setDictionary(dictionary);
   inpainter.setUsePatches(!args.has("no-patches"));

@@ -88,7 +88,7 @@ int reconstructCloud(const Arguments& args, const ReconstructLine& line, Triangl
   const SeedsAndFrames seeds = computeSeedsAndFrames(reference, line.quad_length, line.overlap, line.seed, line.placement);
   timer.start("extract");
   HeightMapPatchExtractor extractor;
-  extractor.setInputCloud(reference);
+  extractor.setInputCloud(std::make_shared<const TriangleMesh>(reference));
   extractor.setSeeds(seeds.seeds, seeds.frames);
   extractor.setRadius(line.quad_length / std::sqrt(2.0));
   extractor.setGridSize(line.grid_size);
@@ -161,8 +161,8 @@ int reconstructMesh(const Arguments& args, const ReconstructLine& line, Triangle
 
   timer.start("reconstruct");
   PatchMeshReconstruction reconstruction;
-  reconstruction.setPatches(patches);
-  reconstruction.setTargetMesh(reference);
+  reconstruction.setPatches(std::make_shared<const PatchSet>(patches));
+  reconstruction.setTargetMesh(std::make_shared<const TriangleMesh>(reference));
   reconstruction.setRule(line.rule_name == "bilinear" ? PatchMeshReconstruction::Rule::Bilinear
                                                       : PatchMeshReconstruction::Rule::BinCentres);
   TriangleMesh result;

@@ -54,7 +54,7 @@ SurfacePatches surfacePatches(const std::string& path, const SurfacePatchOptions
   stage("extract");
   if (out.is_cloud) {
     HeightMapPatchExtractor extractor;
-    extractor.setInputCloud(surface);
+    extractor.setInputCloud(std::make_shared<const TriangleMesh>(surface));
     extractor.setSeeds(seeds.seeds, seeds.frames);
     extractor.setRadius(options.quad_length / std::sqrt(2.0));
     extractor.setGridSize(options.grid_size);

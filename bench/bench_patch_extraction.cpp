@@ -50,7 +50,7 @@ void extract(benchmark::State& state, const TriangleMesh& mesh)
   const int threads = static_cast<int>(state.range(0));
   const SeedsAndFrames seeds = computeSeedsAndFrames(mesh, kQuadLength, 1, 1);
   HeightMapPatchExtractor extractor;
-  extractor.setInputMesh(mesh);
+  extractor.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
   extractor.setSeeds(seeds.seeds, seeds.frames);
   extractor.setRadius(kQuadLength / std::sqrt(2.0));
   extractor.setGridSize(16);

@@ -33,7 +33,7 @@ const TriangleMesh& bunny(int thousands)
     mesh = subdivideMidpoint(mesh);
   TriangleMesh coarse;
   CoarseMeshEstimation smoothing;
-  smoothing.setInputMesh(mesh);
+  smoothing.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
   smoothing.process(coarse);
   return meshes.emplace(thousands, std::move(coarse)).first->second;
 }
@@ -52,7 +52,7 @@ const TriangleMesh& torus(int thousands)
 void run(benchmark::State& state, const TriangleMesh& mesh)
 {
   QuadRemesher remesher;
-  remesher.setInputMesh(mesh);
+  remesher.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
   remesher.setQuadLength(0.03);
   remesher.setNumberOfThreads(static_cast<int>(state.range(1)));
   QuadMesh out;

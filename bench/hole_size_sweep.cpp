@@ -68,9 +68,8 @@ int main(int argc, char** argv)
         double error[2] = {0.0, 0.0}, added_error[2] = {0.0, 0.0};
         SparsePatchInpainter::Report report;
         for (int patches = 0; patches < 2; ++patches) {
-          SparsePatchInpainter inpainter;
-          inpainter.setMode(SparsePatchInpainter::Mode::Holes);
-          inpainter.setInputMesh(holed.mesh);
+          SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Holes);
+          inpainter.setInputMesh(std::make_shared<const TriangleMesh>(holed.mesh));
           HoleFilling filling;
           filling.setMaxHoleDiameter(6.0 * radius);  // the punched holes, not the scan's own openings
           inpainter.setHoleFilling(filling);

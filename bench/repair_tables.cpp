@@ -50,10 +50,9 @@ struct Result {
 Result repair(SparsePatchInpainter::Mode mode, const TriangleMesh& input, const std::vector<int>& missing,
               bool patches, const PatchDictionary::ConstPtr& dictionary, TriangleMesh& out)
 {
-  SparsePatchInpainter inpainter;
-  inpainter.setMode(mode);
+  SparsePatchInpainter inpainter(mode);
   inpainter.setParameters(SparsePatchInpainter::defaultParameters(mode));
-  inpainter.setInputMesh(input);
+  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(input));
   if (mode == SparsePatchInpainter::Mode::MissingVertices)
     inpainter.setMissingVertices(missing);
   if (mode == SparsePatchInpainter::Mode::Holes) {
@@ -158,7 +157,7 @@ PatchDictionary::ConstPtr localDictionary(const TriangleMesh& truth, double side
   PatchCorrectionParameters parameters;
   parameters.quad_length = side;
   PatchCorrection correction;
-  correction.setEstimate(truth);
+  correction.setEstimate(std::make_shared<const TriangleMesh>(truth));
   correction.setParameters(parameters);
   const PatchSet patches = correction.observedPatches();
   return PatchCorrection::learnSelfSimilar(patches.heights, patches.observed, parameters);

@@ -32,11 +32,9 @@ int main(int argc, char** argv)
     pcl::patchdict::HoleFilling holes;
     holes.setMaxHoleDiameter(max_diameter);
 
-    SparsePatchInpainter inpainter;
-    inpainter.setMode(SparsePatchInpainter::Mode::Holes);
-    inpainter.setParameters(SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes));
+    SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Holes);
     inpainter.setHoleFilling(holes);
-    inpainter.setInputMesh(mesh);
+    inpainter.setInputMesh(std::make_shared<const pcl::patchdict::TriangleMesh>(mesh));
     pcl::patchdict::TriangleMesh repaired;
     SparsePatchInpainter::Report report;
     inpainter.process(repaired, &report);

@@ -235,7 +235,8 @@ DepthNoiseModel estimateDepthNoise(const DepthImage& image, std::size_t stride)
 }
 
 FreeSpaceTest::FreeSpaceTest(const DepthImage& image, double spacing_factor, double relative_depth)
-    : image_(&image), spacing_factor_(spacing_factor), relative_depth_(relative_depth)
+    : camera_(image.camera), width_(image.width), height_(image.height), spacing_factor_(spacing_factor),
+      relative_depth_(relative_depth)
 {
   const std::size_t W = image.width, H = image.height;
   nearest_.assign(W * H, std::numeric_limits<double>::infinity());
@@ -252,18 +253,16 @@ FreeSpaceTest::FreeSpaceTest(const DepthImage& image, double spacing_factor, dou
 
 bool FreeSpaceTest::violates(const Eigen::Vector3d& p) const
 {
-  const DepthImage& image = *image_;
-  if (!image.camera.valid || !p.allFinite() || !(p.z() > 0.0))
+  if (!camera_.valid || !p.allFinite() || !(p.z() > 0.0))
     return false;
-  const Eigen::Vector2d pixel = image.camera.project(p);
+  const Eigen::Vector2d pixel = camera_.project(p);
   const double column = std::round(pixel.x()), row = std::round(pixel.y());
-  if (!(column >= 0.0 && row >= 0.0 && column < static_cast<double>(image.width) &&
-        row < static_cast<double>(image.height)))
+  if (!(column >= 0.0 && row >= 0.0 && column < static_cast<double>(width_) && row < static_cast<double>(height_)))
     return false;
-  const double seen = nearest_[static_cast<std::size_t>(row) * image.width + static_cast<std::size_t>(column)];
+  const double seen = nearest_[static_cast<std::size_t>(row) * width_ + static_cast<std::size_t>(column)];
   if (!std::isfinite(seen))
     return false;
-  const double tolerance = std::max(spacing_factor_ * image.camera.pixelSpacing(seen), relative_depth_ * seen);
+  const double tolerance = std::max(spacing_factor_ * camera_.pixelSpacing(seen), relative_depth_ * seen);
   return p.z() < seen - tolerance;
 }
 

@@ -282,9 +282,9 @@ QuadMesh codecQuadMesh(const TriangleMesh& surface, const PatchCodecParameters& 
   CoarseMeshEstimation coarse;
   coarse.setIterations(p.smoothing_iterations);
   coarse.setMethod(CoarseMeshEstimation::Method::Laplacian);
-  coarse.setInputMesh(surface);
-  TriangleMesh coarse_mesh;
-  coarse.process(coarse_mesh);
+  coarse.setInputMesh(std::make_shared<const TriangleMesh>(surface));
+  auto coarse_mesh = std::make_shared<TriangleMesh>();
+  coarse.process(*coarse_mesh);
   QuadRemesher remesher;
   remesher.setInputMesh(coarse_mesh);
   remesher.setQuadLength(p.quad_length);
@@ -451,7 +451,7 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
 
   t = Clock::now();
   HeightMapPatchExtractor extractor;
-  extractor.setInputMesh(surface);
+  extractor.setInputMesh(std::make_shared<const TriangleMesh>(surface));
   extractor.setRadius(c.radius);
   extractor.setGridSize(grid);
   extractor.setNumberOfThreads(p.num_threads);

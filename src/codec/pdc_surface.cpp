@@ -85,7 +85,7 @@ void quadSeeds(const QuadMesh& quads, std::uint32_t overlap, std::vector<Eigen::
                pcl::PointCloud<pcl::ReferenceFrame>& frames, std::vector<Eigen::Matrix3d>& rotations)
 {
   QuadFrameEstimation estimation;
-  estimation.setInputQuadMesh(quads);
+  estimation.setInputQuadMesh(std::make_shared<const QuadMesh>(quads));
   estimation.setOverlap(static_cast<int>(overlap));
   estimation.compute(seeds, frames);
   rotations.clear();
@@ -249,8 +249,8 @@ TriangleMesh decodeSurface(const PdcContent& c, const PatchDictionary& dictionar
     reconstruct_from = &quad_patches;
   }
   PatchMeshReconstruction reconstruction;
-  reconstruction.setPatches(*reconstruct_from);
-  reconstruction.setTargetMesh(target);
+  reconstruction.setPatches(std::make_shared<const PatchSet>(*reconstruct_from));
+  reconstruction.setTargetMesh(std::make_shared<const TriangleMesh>(target));
   PatchMeshReconstruction::Report reconstruction_report;
   TriangleMesh decoded;
   reconstruction.compute(decoded, &reconstruction_report);

@@ -65,23 +65,23 @@ double meanDihedralAngle(const TriangleMesh& mesh)
   return meanDihedralAngle(mesh, computeEdgeFaceAdjacency(mesh));
 }
 
-void CoarseMeshEstimation::setInputMesh(const TriangleMesh& mesh)
+void CoarseMeshEstimation::setInputMesh(const std::shared_ptr<const TriangleMesh>& mesh)
 {
-  input_ = &mesh;
+  input_ = mesh;
   cloud_.reset();
   cloud_with_normals_.reset();
 }
 
 void CoarseMeshEstimation::setInputCloud(const pcl::PointCloud<pcl::PointXYZ>::ConstPtr& cloud)
 {
-  input_ = nullptr;
+  input_.reset();
   cloud_ = cloud;
   cloud_with_normals_.reset();
 }
 
 void CoarseMeshEstimation::setInputCloud(const pcl::PointCloud<pcl::PointNormal>::ConstPtr& cloud)
 {
-  input_ = nullptr;
+  input_.reset();
   cloud_.reset();
   cloud_with_normals_ = cloud;
 }

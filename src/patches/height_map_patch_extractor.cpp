@@ -72,17 +72,15 @@ void HeightMapPatchExtractor::setSeeds(const std::vector<Eigen::Vector3d>& seeds
     rotations_[p] = fromReferenceFrame(frames[p]);
 }
 
-void HeightMapPatchExtractor::setInputMesh(const TriangleMesh& mesh)
+void HeightMapPatchExtractor::setInputMesh(const std::shared_ptr<const TriangleMesh>& mesh)
 {
   surface_ = mesh;
   mode_ = Mode::Mesh;
 }
 
-void HeightMapPatchExtractor::setInputCloud(const TriangleMesh& cloud_as_vertices)
+void HeightMapPatchExtractor::setInputCloud(const std::shared_ptr<const TriangleMesh>& cloud_as_vertices)
 {
-  surface_.vertices = cloud_as_vertices.vertices;
-  surface_.faces.clear();
-  surface_.normals.clear();
+  surface_ = cloud_as_vertices;
   mode_ = Mode::Cloud;
 }
 
@@ -110,16 +108,16 @@ void HeightMapPatchExtractor::checkInput() const
     if (rotations_[p].determinant() < 0.0)
       throw Error(what + "frame " + std::to_string(p) + " is left-handed");
   }
-  if (surface_.vertices.empty())
+  if (!surface_ || surface_->vertices.empty())
     throw Error(what + "the input surface has no points");
-  for (const auto& v : surface_.vertices)
+  for (const auto& v : surface_->vertices)
     if (!v.allFinite())
       throw Error(what + "the input surface has non-finite coordinates");
   if (mode_ == Mode::Mesh) {
-    if (surface_.faces.empty())
+    if (surface_->faces.empty())
       throw Error(what + "the input mesh has no faces (use setInputCloud for a point cloud)");
-    const auto count = static_cast<std::int32_t>(surface_.vertices.size());
-    for (const auto& face : surface_.faces)
+    const auto count = static_cast<std::int32_t>(surface_->vertices.size());
+    for (const auto& face : surface_->faces)
       for (const auto index : face)
         if (index < 0 || index >= count)
           throw Error(what + "a face refers to vertex " + std::to_string(index) + " of " + std::to_string(count));
@@ -154,8 +152,8 @@ void HeightMapPatchExtractor::compute(PatchSet& out) const
 void HeightMapPatchExtractor::computeMesh(PatchSet& out) const
 {
   const Grid grid = makeGrid(grid_size_, radius_);
-  const auto& vertices = surface_.vertices;
-  const auto& faces = surface_.faces;
+  const auto& vertices = surface_->vertices;
+  const auto& faces = surface_->faces;
 
   pcl::PointCloud<pcl::PointXYZ>::Ptr centroids(new pcl::PointCloud<pcl::PointXYZ>);
   centroids->resize(faces.size());
@@ -257,7 +255,7 @@ void HeightMapPatchExtractor::computeMesh(PatchSet& out) const
 void HeightMapPatchExtractor::computeCloud(PatchSet& out) const
 {
   const Grid grid = makeGrid(grid_size_, radius_);
-  const auto& points = surface_.vertices;
+  const auto& points = surface_->vertices;
   pcl::KdTreeFLANN<pcl::PointXYZ> tree(false);
   tree.setInputCloud(detail::toCloudXYZ(points));
   const double query_radius = floatSafeRadius(radius_, coordinateScale(points, seeds_));

@@ -79,7 +79,7 @@ SeedsAndFrames computeSeedsAndFrames(const TriangleMesh& mesh, double quad_lengt
 PatchSet extractMeshPatches(const TriangleMesh& mesh, const SeedsAndFrames& seeds, double quad_length, int grid_size)
 {
   HeightMapPatchExtractor extractor;
-  extractor.setInputMesh(mesh);
+  extractor.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
   extractor.setSeeds(seeds.seeds, seeds.frames);
   extractor.setRadius(quad_length / std::sqrt(2.0));  // patch side √2·r = L, as in the paper
   extractor.setGridSize(grid_size);

@@ -1,5 +1,5 @@
 // Multi-resolution hierarchy and extrinsic 4-RoSy orientation field (Jakob et al. 2015, §4–5),
-// implemented from the description in ALGORITHMS.md 2.2 and 2.4 — not from the reference code.
+// implemented from the paper's description (§3, §5) — not from the reference code.
 #include <pcl_patchdict/quads/orientation_field.h>
 
 #include <pcl_patchdict/core/error.h>
@@ -180,7 +180,7 @@ bool coarsenLevel(FieldLevel& fine, FieldLevel& coarse)
   return true;
 }
 
-/** One Gauss–Seidel update of vertex i (ALGORITHMS.md 2.2 "Smoothing one vertex"). */
+/** One Gauss–Seidel update of vertex i (Jakob et al. 2015 §3). */
 void smoothOrientationVertex(const FieldLevel& level, std::vector<Eigen::Vector3d>& q, std::int32_t i)
 {
   const Eigen::Vector3d& n_i = level.normals[i];

@@ -96,14 +96,14 @@ void computePatchLayout(const TriangleMesh& surface, const PatchLayoutParameters
     toPointCloud(surface, *cloud);
     coarse.setInputCloud(cloud);
   } else {
-    coarse.setInputMesh(surface);
+    coarse.setInputMesh(std::make_shared<const TriangleMesh>(surface));
   }
   coarse.process(out.coarse, &out.coarse_report);
   out.seconds_coarse = since(t);
 
   t = Clock::now();
   QuadRemesher remesher;
-  remesher.setInputMesh(out.coarse);
+  remesher.setInputMesh(std::make_shared<const TriangleMesh>(out.coarse));
   remesher.setQuadLength(parameters.quad_length);
   remesher.setSeed(parameters.seed);
   remesher.setNumberOfThreads(parameters.num_threads);
@@ -127,7 +127,7 @@ void reseedPatchLayout(const TriangleMesh& surface, int overlap, PatchLayout& ou
   using Clock = std::chrono::steady_clock;
   const auto t = Clock::now();
   QuadFrameEstimation frames;
-  frames.setInputQuadMesh(out.quads);
+  frames.setInputQuadMesh(std::make_shared<const QuadMesh>(out.quads));
   frames.setOverlap(overlap);
   frames.compute(out.seeds, out.frames, &out.seed_faces);
   out.mean_seed_shift = 0.0;

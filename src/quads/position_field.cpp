@@ -1,5 +1,5 @@
 // Extrinsic 4-PoSy position field on the multi-resolution hierarchy (Jakob et al. 2015, §4–5),
-// implemented from the description in ALGORITHMS.md 2.3 and 2.4 — not from the reference code.
+// implemented from the paper's description — not from the reference code.
 #include <pcl_patchdict/quads/position_field.h>
 
 #include <pcl_patchdict/core/error.h>
@@ -188,7 +188,7 @@ inline Eigen::Vector3d floorCorner(const Eigen::Vector3d& o, const Eigen::Vector
   return o + q * (std::floor(q.dot(d) * inverse_scale) * scale) + t * (std::floor(t.dot(d) * inverse_scale) * scale);
 }
 
-/** One Gauss–Seidel update of origin i (ALGORITHMS.md 2.3 "Smoothing one vertex"), with the
+/** One Gauss–Seidel update of origin i (Jakob et al. 2015 §4), with the
   * same arithmetic as compatPositionExtrinsic4 but the per-level constants taken from the cache. */
 void smoothPositionVertex(const FieldLevel& level, const std::vector<Eigen::Vector3d>& q, const LevelCache& cache,
                           std::vector<Eigen::Vector3d>& o, std::int32_t i, double scale)

@@ -1,5 +1,5 @@
 // Extraction of a quad-dominant mesh from the orientation and position fields (Jakob et al. 2015
-// §6), implemented from the description in ALGORITHMS.md 2.5 — not from the reference code.
+// §6), implemented from the paper's description (§6) — not from the reference code.
 #include <pcl_patchdict/quads/quad_remesher.h>
 
 #include <pcl_patchdict/core/error.h>

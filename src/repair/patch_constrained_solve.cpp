@@ -71,6 +71,51 @@ PatchConstrainedSolver::PatchConstrainedSolver(const TriangleMesh& mesh, const s
       throw Error("a connected part of the mesh has no known vertex: its missing vertices cannot be recovered");
 }
 
+namespace {
+
+/** The bi-Laplacian normal equations (`normal`, `rhs`: one column per coordinate) with the
+  * point-to-plane constraints, which couple the coordinates: unknown 3f + c is coordinate c of
+  * free vertex f. Writes the free vertices of `positions`. */
+void solveCoupled(const SparseMatrix& normal, const Eigen::MatrixXd& rhs,
+                  const std::vector<PointToPlaneConstraint>& constraints, double constraint_weight,
+                  const std::vector<std::int32_t>& free_index_, const std::vector<std::int32_t>& free_vertices_,
+                  std::vector<Eigen::Vector3d>& positions)
+{
+  const std::size_t num_free = free_vertices_.size();
+  std::vector<Triplet> h_entries;
+  h_entries.reserve(static_cast<std::size_t>(normal.nonZeros()) * 3 + constraints.size() * 9);
+  for (int k = 0; k < normal.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(normal, k); it; ++it)
+      for (int c = 0; c < 3; ++c)
+        h_entries.emplace_back(3 * static_cast<int>(it.row()) + c, 3 * static_cast<int>(it.col()) + c, it.value());
+  Eigen::VectorXd g(static_cast<Eigen::Index>(3 * num_free));
+  for (std::size_t f = 0; f < num_free; ++f)
+    g.segment<3>(static_cast<Eigen::Index>(3 * f)) = rhs.row(static_cast<Eigen::Index>(f)).transpose();
+  for (const PointToPlaneConstraint& c : constraints) {
+    if (!(c.weight > 0.0))
+      continue;
+    const double w = constraint_weight * c.weight;
+    const int f = free_index_[static_cast<std::size_t>(c.vertex)];
+    const Eigen::Matrix3d block = w * c.normal * c.normal.transpose();
+    for (int r = 0; r < 3; ++r)
+      for (int s = 0; s < 3; ++s)
+        h_entries.emplace_back(3 * f + r, 3 * f + s, block(r, s));
+    g.segment<3>(3 * f) += w * c.normal.dot(c.point) * c.normal;
+  }
+  SparseMatrix h(static_cast<Eigen::Index>(3 * num_free), static_cast<Eigen::Index>(3 * num_free));
+  h.setFromTriplets(h_entries.begin(), h_entries.end());
+  Eigen::SimplicialLDLT<SparseMatrix> ldlt(h);
+  if (ldlt.info() != Eigen::Success)
+    throw Error("the constrained bi-Laplacian system could not be factorised");
+  const Eigen::VectorXd x = ldlt.solve(g);
+  if (ldlt.info() != Eigen::Success || !x.allFinite())
+    throw Error("the constrained bi-Laplacian system could not be solved");
+  for (std::size_t f = 0; f < num_free; ++f)
+    positions[static_cast<std::size_t>(free_vertices_[f])] = x.segment<3>(static_cast<Eigen::Index>(3 * f));
+}
+
+}  // namespace
+
 void PatchConstrainedSolver::solve(std::vector<Eigen::Vector3d>& positions,
                                    const std::vector<PointToPlaneConstraint>& constraints,
                                    double constraint_weight) const
@@ -141,37 +186,7 @@ void PatchConstrainedSolver::solve(std::vector<Eigen::Vector3d>& positions,
     return;
   }
 
-  // Coupled system: unknown 3f + c is coordinate c of free vertex f.
-  std::vector<Triplet> h_entries;
-  h_entries.reserve(static_cast<std::size_t>(normal.nonZeros()) * 3 + constraints.size() * 9);
-  for (int k = 0; k < normal.outerSize(); ++k)
-    for (SparseMatrix::InnerIterator it(normal, k); it; ++it)
-      for (int c = 0; c < 3; ++c)
-        h_entries.emplace_back(3 * static_cast<int>(it.row()) + c, 3 * static_cast<int>(it.col()) + c, it.value());
-  Eigen::VectorXd g(static_cast<Eigen::Index>(3 * num_free));
-  for (std::size_t f = 0; f < num_free; ++f)
-    g.segment<3>(static_cast<Eigen::Index>(3 * f)) = rhs.row(static_cast<Eigen::Index>(f)).transpose();
-  for (const PointToPlaneConstraint& c : constraints) {
-    if (!(c.weight > 0.0))
-      continue;
-    const double w = constraint_weight * c.weight;
-    const int f = free_index_[static_cast<std::size_t>(c.vertex)];
-    const Eigen::Matrix3d block = w * c.normal * c.normal.transpose();
-    for (int r = 0; r < 3; ++r)
-      for (int s = 0; s < 3; ++s)
-        h_entries.emplace_back(3 * f + r, 3 * f + s, block(r, s));
-    g.segment<3>(3 * f) += w * c.normal.dot(c.point) * c.normal;
-  }
-  SparseMatrix h(static_cast<Eigen::Index>(3 * num_free), static_cast<Eigen::Index>(3 * num_free));
-  h.setFromTriplets(h_entries.begin(), h_entries.end());
-  Eigen::SimplicialLDLT<SparseMatrix> ldlt(h);
-  if (ldlt.info() != Eigen::Success)
-    throw Error("the constrained bi-Laplacian system could not be factorised");
-  const Eigen::VectorXd x = ldlt.solve(g);
-  if (ldlt.info() != Eigen::Success || !x.allFinite())
-    throw Error("the constrained bi-Laplacian system could not be solved");
-  for (std::size_t f = 0; f < num_free; ++f)
-    positions[static_cast<std::size_t>(free_vertices_[f])] = x.segment<3>(static_cast<Eigen::Index>(3 * f));
+  solveCoupled(normal, rhs, constraints, constraint_weight, free_index_, free_vertices_, positions);
 }
 
 }  // namespace patchdict

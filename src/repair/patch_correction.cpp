@@ -1,7 +1,7 @@
 // PatchCorrection (see patch_correction.h). Patches and dictionaries: Sarkar, Varanasi & Stricker,
 // "Learning quadrangulated patches for 3D shape parameterization and completion", 3DV 2017,
 // sections 3–5; masked OMP and K-SVD as in sparse_coding.h; the confidence-weighted point-to-plane
-// combination instead of the paper's overwrite is ours (FINDINGS.md: overwriting loses).
+// combination instead of the paper's overwrite is ours (measured: overwriting loses; docs/design.md).
 #include <pcl_patchdict/repair/patch_correction.h>
 
 #include <pcl_patchdict/core/error.h>
@@ -91,8 +91,8 @@ PatchSet PatchCorrection::trainingPatches(const TriangleMesh& clean_mesh, const 
                                           int grid_size)
 {
   // The observed patches of a fully observed mesh: the same layout, L and side as a repair's.
-  TriangleMesh mesh = clean_mesh;
-  UnitCubeNormalization::fromMesh(mesh).apply(mesh);
+  auto mesh = std::make_shared<TriangleMesh>(clean_mesh);
+  UnitCubeNormalization::fromMesh(*mesh).apply(*mesh);
   PatchCorrectionParameters training = parameters;
   training.grid_size = grid_size;
   PatchCorrection correction;
@@ -183,20 +183,20 @@ std::vector<PatchSet> PatchCorrection::observedPatchesAtScales(const std::vector
   r.patches = layout.seeds.size();
   r.seconds_layout = secondsSince(t);
 
-  // 2. Height maps of the observed surface (the extractor keeps its own copy of it).
+  // 2. Height maps of the observed surface (the extractor shares it).
   t = Clock::now();
   HeightMapPatchExtractor extractor;
   if (observed_surface_) {
-    extractor.setInputMesh(*observed_surface_);
+    extractor.setInputMesh(observed_surface_);
   } else if (observed_faces_.empty()) {
-    extractor.setInputMesh(estimate);
+    extractor.setInputMesh(estimate_);
   } else {
-    TriangleMesh observed;
-    observed.vertices = estimate.vertices;
+    auto observed = std::make_shared<TriangleMesh>();
+    observed->vertices = estimate.vertices;
     for (std::size_t f = 0; f < estimate.numFaces(); ++f)
       if (observed_faces_[f])
-        observed.faces.push_back(estimate.faces[f]);
-    if (observed.faces.empty())
+        observed->faces.push_back(estimate.faces[f]);
+    if (observed->faces.empty())
       throw Error("no face is observed: there is no surface to fit patches to");
     extractor.setInputMesh(observed);
   }
@@ -228,6 +228,169 @@ PatchSet PatchCorrection::observedPatches(PatchCorrectionReport* report) const
   return std::move(observedPatchesAtScales({parameters_.patch_scale}, report).front());
 }
 
+namespace {
+
+/** The patches observed enough to code (fraction ≥ min_observed_fraction and > 0), with their
+  * heights and masks gathered; `fraction` per patch of the set. */
+struct UsablePatches {
+  std::vector<std::int32_t> index;  ///< into the patch set
+  std::vector<double> fraction;     ///< observed fraction of every patch of the set
+  Eigen::MatrixXd heights;
+  ObservationMask mask;
+};
+
+UsablePatches usablePatches(const PatchSet& patches, double min_observed_fraction)
+{
+  UsablePatches out;
+  const Eigen::Index bins = static_cast<Eigen::Index>(patches.grid_size) * patches.grid_size;
+  out.fraction.assign(patches.numPatches(), 0.0);
+  for (std::size_t k = 0; k < patches.numPatches(); ++k) {
+    out.fraction[k] = static_cast<double>(patches.observed.col(static_cast<Eigen::Index>(k)).count()) /
+                      static_cast<double>(bins);
+    if (out.fraction[k] >= min_observed_fraction && out.fraction[k] > 0.0)
+      out.index.push_back(static_cast<std::int32_t>(k));
+  }
+  out.heights.resize(bins, static_cast<Eigen::Index>(out.index.size()));
+  out.mask.resize(bins, static_cast<Eigen::Index>(out.index.size()));
+  for (std::size_t u = 0; u < out.index.size(); ++u) {
+    out.heights.col(static_cast<Eigen::Index>(u)) = patches.heights.col(out.index[u]);
+    out.mask.col(static_cast<Eigen::Index>(u)) = patches.observed.col(out.index[u]);
+  }
+  return out;
+}
+
+/** Sparse codes: masked OMP over the observed bins, stopping at `sparsity` atoms or, with an error
+  * target, once the residual over each patch's observed bins is within ε rms (fully observed
+  * patches are coded by Batch-OMP, the others by masked OMP). Returns the decoded patches; the
+  * mean non-zeros per code and each patch's rms misfit over its observed bins alongside. */
+Eigen::MatrixXd codeUsable(const PatchDictionary& dictionary, const UsablePatches& usable,
+                           const PatchCorrectionParameters& p, int atoms, double& mean_atoms,
+                           std::vector<double>& fit_rms)
+{
+  const Eigen::Index bins = usable.heights.rows();
+  const std::size_t count = usable.index.size();
+  SparseCodingParameters coding;
+  coding.max_atoms = std::min<int>(p.sparsity, atoms);
+  coding.max_squared_error_per_entry = p.error_per_bin * p.error_per_bin;  // rms ≤ ε over each patch's observed bins
+  std::vector<Eigen::Index> full, partial;
+  for (std::size_t u = 0; u < count; ++u)
+    (usable.mask.col(static_cast<Eigen::Index>(u)).all() ? full : partial).push_back(static_cast<Eigen::Index>(u));
+  Eigen::MatrixXd filled(bins, static_cast<Eigen::Index>(count));
+  double nonzeros = 0.0;
+  const auto code_columns = [&](const std::vector<Eigen::Index>& columns, bool masked) {
+    if (columns.empty())
+      return;
+    Eigen::MatrixXd heights(bins, static_cast<Eigen::Index>(columns.size()));
+    ObservationMask mask(bins, static_cast<Eigen::Index>(columns.size()));
+    for (std::size_t i = 0; i < columns.size(); ++i) {
+      heights.col(static_cast<Eigen::Index>(i)) = usable.heights.col(columns[i]);
+      mask.col(static_cast<Eigen::Index>(i)) = usable.mask.col(columns[i]);
+    }
+    const PatchCodes codes = masked ? dictionary.encodeMasked(heights, mask, coding) : dictionary.encode(heights, coding);
+    const Eigen::MatrixXd decoded = dictionary.decode(codes);
+    for (std::size_t i = 0; i < columns.size(); ++i)
+      filled.col(columns[i]) = decoded.col(static_cast<Eigen::Index>(i));
+    nonzeros += static_cast<double>(codes.coefficients.nonZeros());
+  };
+  code_columns(full, false);
+  code_columns(partial, true);
+  mean_atoms = nonzeros / static_cast<double>(count);
+  fit_rms.assign(count, 0.0);
+  for (std::size_t u = 0; u < count; ++u) {
+    const Eigen::Index c = static_cast<Eigen::Index>(u);
+    double sum = 0.0;
+    Eigen::Index observed = 0;
+    for (Eigen::Index b = 0; b < bins; ++b)
+      if (usable.mask(b, c)) {
+        const double d = filled(b, c) - usable.heights(b, c);
+        sum += d * d;
+        ++observed;
+      }
+    fit_rms[u] = observed ? std::sqrt(sum / static_cast<double>(observed)) : 0.0;
+  }
+  return filled;
+}
+
+/** What every target's constraints are made from: the coded usable patches and the per-patch
+  * parts of the confidence. */
+struct ConstraintSource {
+  ConstraintSource(const PatchSet& patches_, const std::vector<std::int32_t>& usable_, const Eigen::MatrixXd& filled_,
+                   const PatchCorrectionParameters& p_)
+      : patches(patches_), usable(usable_), filled(filled_), p(p_)
+  {
+  }
+  const PatchSet& patches;
+  const std::vector<std::int32_t>& usable;
+  const Eigen::MatrixXd& filled;  ///< coded heights, one column per usable patch
+  const PatchCorrectionParameters& p;
+  int grid = 0;
+  double side = 0.0, radius = 0.0, sigma = 0.0;
+  std::vector<double> observed_weight, fit_divisor;  ///< per usable patch
+};
+
+/** The constraint of usable patch u on vertex v at x0 (normal n0), when its square holds x0. */
+bool patchConstraint(const ConstraintSource& s, std::size_t u, std::int32_t v, const Eigen::Vector3d& x0,
+                     const Eigen::Vector3d& n0, PointToPlaneConstraint& c)
+{
+  const PatchCorrectionParameters& p = s.p;
+  const std::size_t k = static_cast<std::size_t>(s.usable[u]);
+  const Eigen::Matrix3d& rotation = s.patches.rotations[k];
+  Eigen::Vector3d local;
+  if (!patchContains(s.patches.seeds[k], rotation, s.radius, x0, n0, &local))
+    return false;
+  const auto column = s.filled.col(static_cast<Eigen::Index>(u));
+  const double h = bilinearHeight(column, s.grid, s.side, local.x(), local.y());
+  c.vertex = v;
+  c.point = s.patches.seeds[k] + rotation.transpose() * Eigen::Vector3d(local.x(), local.y(), h);
+  Eigen::Vector3d normal_local = Eigen::Vector3d::UnitZ();
+  if (p.surface_normals) {
+    // Central differences over one bin: the tangent plane of the patch surface at p.
+    const double step = s.side / s.grid;
+    const double hx = (bilinearHeight(column, s.grid, s.side, local.x() + step, local.y()) -
+                       bilinearHeight(column, s.grid, s.side, local.x() - step, local.y())) / (2.0 * step);
+    const double hy = (bilinearHeight(column, s.grid, s.side, local.x(), local.y() + step) -
+                       bilinearHeight(column, s.grid, s.side, local.x(), local.y() - step)) / (2.0 * step);
+    normal_local = Eigen::Vector3d(-hx, -hy, 1.0).normalized();
+  }
+  c.normal = rotation.transpose() * normal_local;
+  double w = 1.0;
+  if (s.sigma > 0.0)
+    w *= std::exp(-0.5 * (local.x() * local.x() + local.y() * local.y()) / (s.sigma * s.sigma));
+  if (p.observed_power > 0.0)
+    w *= s.observed_weight[u];
+  if (p.fit_scale > 0.0)
+    w /= s.fit_divisor[u];
+  c.weight = w;
+  return true;
+}
+
+/** Agreement with the weighted median of the patches' offsets (robust to a stray patch): each
+  * weight × exp(−½ ((d − median) / tau)²). */
+void weighByAgreement(std::vector<PointToPlaneConstraint>& list, const std::vector<double>& offsets, double tau)
+{
+  std::vector<std::size_t> order(list.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return offsets[a] < offsets[b]; });
+  double sum_w = 0.0;
+  for (const auto& c : list)
+    sum_w += c.weight;
+  double running = 0.0, median = offsets[order.back()];
+  for (std::size_t i : order) {
+    running += list[i].weight;
+    if (running >= 0.5 * sum_w) {
+      median = offsets[i];
+      break;
+    }
+  }
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const double d = (offsets[i] - median) / tau;
+    list[i].weight *= std::exp(-0.5 * d * d);
+  }
+}
+
+}  // namespace
+
 void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& constraints,
                               PatchCorrectionReport* report) const
 {
@@ -242,103 +405,49 @@ void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& 
   if (targets_.empty())
     return;
   const PatchSet patches = observedPatches(&r);
-  const int grid = patches.grid_size;
-  const double side = patches.side();
-  const double radius = patches.radius;
-  const Eigen::Index bins = static_cast<Eigen::Index>(grid) * grid;
-  std::vector<std::int32_t> usable;
-  std::vector<double> fraction(patches.numPatches(), 0.0);
-  for (std::size_t k = 0; k < patches.numPatches(); ++k) {
-    fraction[k] = static_cast<double>(patches.observed.col(static_cast<Eigen::Index>(k)).count()) /
-                  static_cast<double>(bins);
-    if (fraction[k] >= p.min_observed_fraction && fraction[k] > 0.0)
-      usable.push_back(static_cast<std::int32_t>(k));
-  }
-  r.patches_used = usable.size();
-  Eigen::MatrixXd usable_heights(bins, static_cast<Eigen::Index>(usable.size()));
-  ObservationMask usable_mask(bins, static_cast<Eigen::Index>(usable.size()));
-  for (std::size_t u = 0; u < usable.size(); ++u) {
-    usable_heights.col(static_cast<Eigen::Index>(u)) = patches.heights.col(usable[u]);
-    usable_mask.col(static_cast<Eigen::Index>(u)) = patches.observed.col(usable[u]);
-  }
-  if (usable.empty())
+  const UsablePatches usable = usablePatches(patches, p.min_observed_fraction);
+  r.patches_used = usable.index.size();
+  if (usable.index.empty())
     return;  // nothing observed near enough: no constraint
 
   // Dictionary: given, or self-similar from the observed patches (masked K-SVD).
   auto t = Clock::now();
   PatchDictionary::ConstPtr dictionary = dictionary_;
   if (!dictionary) {
-    dictionary = learnSelfSimilar(usable_heights, usable_mask, p);
+    dictionary = learnSelfSimilar(usable.heights, usable.mask, p);
     r.self_similar = true;
   }
   r.atoms = static_cast<int>(dictionary->atoms().cols());
   r.seconds_dictionary = secondsSince(t);
-
-  // Sparse codes: masked OMP over the observed bins, stopping at `sparsity` atoms or, with an error
-  // target, once the residual over each patch's observed bins is within ε rms (fully observed
-  // patches are coded by Batch-OMP, the others by masked OMP).
   t = Clock::now();
-  SparseCodingParameters coding;
-  coding.max_atoms = std::min<int>(p.sparsity, r.atoms);
-  coding.max_squared_error_per_entry = p.error_per_bin * p.error_per_bin;  // rms ≤ ε over each patch's observed bins
-  std::vector<Eigen::Index> full, partial;
-  for (std::size_t u = 0; u < usable.size(); ++u)
-    (usable_mask.col(static_cast<Eigen::Index>(u)).all() ? full : partial).push_back(static_cast<Eigen::Index>(u));
-  Eigen::MatrixXd filled(bins, static_cast<Eigen::Index>(usable.size()));
-  double nonzeros = 0.0;
-  const auto code_columns = [&](const std::vector<Eigen::Index>& columns, bool masked) {
-    if (columns.empty())
-      return;
-    Eigen::MatrixXd heights(bins, static_cast<Eigen::Index>(columns.size()));
-    ObservationMask mask(bins, static_cast<Eigen::Index>(columns.size()));
-    for (std::size_t i = 0; i < columns.size(); ++i) {
-      heights.col(static_cast<Eigen::Index>(i)) = usable_heights.col(columns[i]);
-      mask.col(static_cast<Eigen::Index>(i)) = usable_mask.col(columns[i]);
-    }
-    const PatchCodes codes = masked ? dictionary->encodeMasked(heights, mask, coding)
-                                    : dictionary->encode(heights, coding);
-    const Eigen::MatrixXd decoded = dictionary->decode(codes);
-    for (std::size_t i = 0; i < columns.size(); ++i)
-      filled.col(columns[i]) = decoded.col(static_cast<Eigen::Index>(i));
-    nonzeros += static_cast<double>(codes.coefficients.nonZeros());
-  };
-  code_columns(full, false);
-  code_columns(partial, true);
-  r.mean_atoms = nonzeros / static_cast<double>(usable.size());
-  std::vector<double> fit_rms(usable.size(), 0.0);
-  for (std::size_t u = 0; u < usable.size(); ++u) {
-    const Eigen::Index c = static_cast<Eigen::Index>(u);
-    double sum = 0.0;
-    Eigen::Index count = 0;
-    for (Eigen::Index b = 0; b < bins; ++b)
-      if (usable_mask(b, c)) {
-        const double d = filled(b, c) - usable_heights(b, c);
-        sum += d * d;
-        ++count;
-      }
-    fit_rms[u] = count ? std::sqrt(sum / static_cast<double>(count)) : 0.0;
-  }
+  std::vector<double> fit_rms;
+  const Eigen::MatrixXd filled = codeUsable(*dictionary, usable, p, r.atoms, r.mean_atoms, fit_rms);
   r.seconds_coding = secondsSince(t);
 
   // 3. Constraints on each target from the patches whose square holds it.
   t = Clock::now();
-  std::vector<Eigen::Vector3d> usable_seeds(usable.size());
-  for (std::size_t u = 0; u < usable.size(); ++u)
-    usable_seeds[u] = patches.seeds[static_cast<std::size_t>(usable[u])];
+  std::vector<Eigen::Vector3d> usable_seeds(usable.index.size());
+  for (std::size_t u = 0; u < usable.index.size(); ++u)
+    usable_seeds[u] = patches.seeds[static_cast<std::size_t>(usable.index[u])];
   // The reconstruction's search: FLANN in float with a widened radius, then the exact test.
   pcl::KdTreeFLANN<pcl::PointXYZ> seed_tree;
   seed_tree.setInputCloud(detail::toCloudXYZ(usable_seeds));
-  const float search_radius = detail::floatSearchRadius(radius);
+  const float search_radius = detail::floatSearchRadius(patches.radius);
   const double edge = std::max(r.mean_edge_length, 1e-12);
-  const double sigma = p.centre_sigma * 0.5 * side;
+  ConstraintSource source(patches, usable.index, filled, p);
+  source.grid = patches.grid_size;
+  source.side = patches.side();
+  source.radius = patches.radius;
+  source.sigma = p.centre_sigma * 0.5 * source.side;
   // The per-patch parts of the confidence (observed fraction, fit), once per patch, not per target.
-  std::vector<double> observed_weight(usable.size(), 1.0), fit_divisor(usable.size(), 1.0);
-  for (std::size_t u = 0; u < usable.size(); ++u) {
+  source.observed_weight.assign(usable.index.size(), 1.0);
+  source.fit_divisor.assign(usable.index.size(), 1.0);
+  for (std::size_t u = 0; u < usable.index.size(); ++u) {
     if (p.observed_power > 0.0)
-      observed_weight[u] = std::pow(fraction[static_cast<std::size_t>(usable[u])], p.observed_power);
+      source.observed_weight[u] = std::pow(usable.fraction[static_cast<std::size_t>(usable.index[u])], p.observed_power);
     if (p.fit_scale > 0.0) {
       const double q = fit_rms[u] / (p.fit_scale * edge);
-      fit_divisor[u] = 1.0 + q * q;
+      source.fit_divisor[u] = 1.0 + q * q;
     }
   }
   // A target facing away from a patch's Z is on another sheet (a thin wall's far side): the
@@ -355,61 +464,14 @@ void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& 
     std::vector<PointToPlaneConstraint>& list = constraints[static_cast<std::size_t>(ti)];
     std::vector<double> offsets;  // d = n·(x0 − p): the correction each patch asks for
     for (const int u : near) {
-      const std::size_t k = static_cast<std::size_t>(usable[static_cast<std::size_t>(u)]);
-      const Eigen::Matrix3d& rotation = patches.rotations[k];
-      Eigen::Vector3d local;
-      if (!patchContains(patches.seeds[k], rotation, radius, x0, normals[static_cast<std::size_t>(v)], &local))
-        continue;
-      const auto column = filled.col(static_cast<Eigen::Index>(u));
-      const double h = bilinearHeight(column, grid, side, local.x(), local.y());
       PointToPlaneConstraint c;
-      c.vertex = v;
-      c.point = patches.seeds[k] + rotation.transpose() * Eigen::Vector3d(local.x(), local.y(), h);
-      Eigen::Vector3d normal_local = Eigen::Vector3d::UnitZ();
-      if (p.surface_normals) {
-        // Central differences over one bin: the tangent plane of the patch surface at p.
-        const double step = side / grid;
-        const double hx = (bilinearHeight(column, grid, side, local.x() + step, local.y()) -
-                           bilinearHeight(column, grid, side, local.x() - step, local.y())) / (2.0 * step);
-        const double hy = (bilinearHeight(column, grid, side, local.x(), local.y() + step) -
-                           bilinearHeight(column, grid, side, local.x(), local.y() - step)) / (2.0 * step);
-        normal_local = Eigen::Vector3d(-hx, -hy, 1.0).normalized();
-      }
-      c.normal = rotation.transpose() * normal_local;
-      double w = 1.0;
-      if (sigma > 0.0)
-        w *= std::exp(-0.5 * (local.x() * local.x() + local.y() * local.y()) / (sigma * sigma));
-      if (p.observed_power > 0.0)
-        w *= observed_weight[static_cast<std::size_t>(u)];
-      if (p.fit_scale > 0.0)
-        w /= fit_divisor[static_cast<std::size_t>(u)];
-      c.weight = w;
+      if (!patchConstraint(source, static_cast<std::size_t>(u), v, x0, normals[static_cast<std::size_t>(v)], c))
+        continue;
       offsets.push_back(c.normal.dot(x0 - c.point));
       list.push_back(c);
     }
-    if (p.agreement_scale > 0.0 && list.size() > 1) {
-      // Agreement with the weighted median of the patches' offsets (robust to a stray patch).
-      std::vector<std::size_t> order(list.size());
-      for (std::size_t i = 0; i < order.size(); ++i)
-        order[i] = i;
-      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return offsets[a] < offsets[b]; });
-      double sum_w = 0.0;
-      for (const auto& c : list)
-        sum_w += c.weight;
-      double running = 0.0, median = offsets[order.back()];
-      for (std::size_t i : order) {
-        running += list[i].weight;
-        if (running >= 0.5 * sum_w) {
-          median = offsets[i];
-          break;
-        }
-      }
-      const double tau = p.agreement_scale * edge;
-      for (std::size_t i = 0; i < list.size(); ++i) {
-        const double d = (offsets[i] - median) / tau;
-        list[i].weight *= std::exp(-0.5 * d * d);
-      }
-    }
+    if (p.agreement_scale > 0.0 && list.size() > 1)
+      weighByAgreement(list, offsets, p.agreement_scale * edge);
   }
   for (const auto& list : constraints) {
     if (!list.empty())

@@ -50,7 +50,7 @@ PatchSet bunnyPatches(const TriangleMesh& bunny)
   PatchLayout layout;
   computePatchLayout(unit, layout_parameters, layout);
   HeightMapPatchExtractor extractor;
-  extractor.setInputMesh(unit);
+  extractor.setInputMesh(std::make_shared<const TriangleMesh>(unit));
   extractor.setSeeds(layout.seeds, layout.frames);
   extractor.setRadius(0.08 / std::sqrt(2.0));
   extractor.setGridSize(16);

@@ -26,7 +26,7 @@ TEST(CoarseMeshEstimation, FlatPlaneStaysPutAndItsRimStaysOnTheRim)
 {
   const TriangleMesh plane = makePlaneGrid(40, 40);
   CoarseMeshEstimation smoother;
-  smoother.setInputMesh(plane);
+  smoother.setInputMesh(std::make_shared<const TriangleMesh>(plane));
   TriangleMesh out;
   smoother.process(out);
   for (std::size_t v = 0; v < out.vertices.size(); ++v) {
@@ -53,7 +53,7 @@ TEST(CoarseMeshEstimation, SmoothsNoiseAndTaubinShrinksLessThanLaplacian)
   cleanMesh(bunny);
   UnitCubeNormalization::fromMesh(bunny).apply(bunny);
   CoarseMeshEstimation smoother;
-  smoother.setInputMesh(bunny);
+  smoother.setInputMesh(std::make_shared<const TriangleMesh>(bunny));
   TriangleMesh laplacian, taubin;
   CoarseMeshEstimation::Report laplacian_report, taubin_report;
   smoother.setMethod(CoarseMeshEstimation::Method::Laplacian);
@@ -83,7 +83,7 @@ TEST(CoarseMeshEstimation, SphereKeepsItsRadiusUnderTaubin)
     noisy_spread = std::max(noisy_spread, std::abs(v.norm() - 1.0));
   }
   CoarseMeshEstimation smoother;
-  smoother.setInputMesh(sphere);
+  smoother.setInputMesh(std::make_shared<const TriangleMesh>(sphere));
   TriangleMesh out;
   smoother.process(out);
   double mean_radius = 0.0, spread = 0.0;
@@ -102,10 +102,10 @@ TEST(CoarseMeshEstimation, RejectsBadInput)
   EXPECT_THROW(smoother.process(out), Error);
   TriangleMesh cloud;
   cloud.vertices = {{0, 0, 0}, {1, 0, 0}};
-  smoother.setInputMesh(cloud);
+  smoother.setInputMesh(std::make_shared<const TriangleMesh>(cloud));
   EXPECT_THROW(smoother.process(out), Error);
   const TriangleMesh plane = makePlaneGrid(2, 2);
-  smoother.setInputMesh(plane);
+  smoother.setInputMesh(std::make_shared<const TriangleMesh>(plane));
   smoother.setLambda(1.5);
   EXPECT_THROW(smoother.process(out), Error);
 }
@@ -373,7 +373,7 @@ TEST(CoarseMeshEstimation, RejectsBadClouds)
   EXPECT_THROW(estimation.process(out), Error);
   // setInputMesh takes over from a cloud.
   const TriangleMesh plane = makePlaneGrid(4, 4);
-  estimation.setInputMesh(plane);
+  estimation.setInputMesh(std::make_shared<const TriangleMesh>(plane));
   EXPECT_NO_THROW(estimation.process(out));
   EXPECT_EQ(out.faces, plane.faces);
 }

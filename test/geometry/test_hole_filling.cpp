@@ -304,7 +304,7 @@ TEST(HoleFilling, PlanarHoleIsFilledFlatAtTheMeshDensity)
   const Eigen::Vector3d normal = rotation * Eigen::Vector3d::UnitZ();
   const double offset = normal.dot(holed.vertices.front());
   HoleFilling filler;
-  filler.setInputMesh(holed);
+  filler.setInputMesh(std::make_shared<const TriangleMesh>(holed));
   TriangleMesh out;
   HoleFilling::Report report;
   filler.process(out, &report);
@@ -348,7 +348,7 @@ TEST(HoleFilling, FairedFillFollowsTheSphereMuchBetterThanAFlatFill)
                                              Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, -1, 0)};
   const TriangleMesh holed = sphereWithHoles(4, 0.45, centres);
   HoleFilling filler;
-  filler.setInputMesh(holed);
+  filler.setInputMesh(std::make_shared<const TriangleMesh>(holed));
   TriangleMesh faired, flat;
   HoleFilling::Report faired_report, flat_report;
   filler.process(faired, &faired_report);
@@ -385,7 +385,7 @@ TEST(HoleFilling, InputVerticesAndFacesStayBitIdenticalAndFirst)
 {
   const TriangleMesh holed = sphereWithHoles(3, 0.5, {Eigen::Vector3d(0.6, 0.0, 0.8)});
   HoleFilling filler;
-  filler.setInputMesh(holed);
+  filler.setInputMesh(std::make_shared<const TriangleMesh>(holed));
   TriangleMesh out, again;
   HoleFilling::Report report;
   filler.process(out, &report);
@@ -415,7 +415,7 @@ TEST(HoleFilling, TheRimOfAnOpenDiscIsNotAHole)
 {
   const TriangleMesh disc = makePlaneGrid(10, 10);
   HoleFilling filler;
-  filler.setInputMesh(disc);
+  filler.setInputMesh(std::make_shared<const TriangleMesh>(disc));
   TriangleMesh out;
   HoleFilling::Report report;
   filler.process(out, &report);
@@ -443,7 +443,7 @@ TEST(HoleFilling, LoopThroughANonManifoldVertexIsSkippedAndReported)
     return !inSquare(f, 0.25, 0.25) && !inSquare(f, 0.375, 0.375) && !inSquare(f, 0.625, 0.625);
   });
   HoleFilling filler;
-  filler.setInputMesh(holed);
+  filler.setInputMesh(std::make_shared<const TriangleMesh>(holed));
   TriangleMesh out;
   HoleFilling::Report report;
   ASSERT_NO_THROW(filler.process(out, &report));
@@ -472,7 +472,7 @@ TEST(HoleFilling, LimitsOnEdgesAndDiameterAreRespected)
     });
   }();
   HoleFilling filler;
-  filler.setInputMesh(holed);
+  filler.setInputMesh(std::make_shared<const TriangleMesh>(holed));
   TriangleMesh out;
   HoleFilling::Report report;
   filler.process(out, &report);
@@ -497,7 +497,7 @@ TEST(HoleFilling, LimitsOnEdgesAndDiameterAreRespected)
   filler.setMaxHoleDiameter(0.0);
   EXPECT_THROW(filler.process(out), Error);
   const TriangleMesh cloud = [] { TriangleMesh m; m.vertices.emplace_back(0, 0, 0); return m; }();
-  filler.setInputMesh(cloud);
+  filler.setInputMesh(std::make_shared<const TriangleMesh>(cloud));
   filler.setMaxHoleDiameter(1.0);
   EXPECT_THROW(filler.process(out), Error);
 }
@@ -523,7 +523,7 @@ TEST(HoleFilling, FiveHundredEdgeHoleIsClosed)
     }
   ASSERT_EQ(inspectMesh(annulus).nonmanifold_edges, 0u);
   HoleFilling filler;
-  filler.setInputMesh(annulus);
+  filler.setInputMesh(std::make_shared<const TriangleMesh>(annulus));
   TriangleMesh out;
   HoleFilling::Report report;
   const auto start = std::chrono::steady_clock::now();

@@ -70,7 +70,7 @@ PatchSet extractMesh(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d
                      const pcl::PointCloud<pcl::ReferenceFrame>& frames, double radius, int grid = 16, int threads = 0)
 {
   HeightMapPatchExtractor extractor;
-  extractor.setInputMesh(mesh);
+  extractor.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
   extractor.setSeeds(seeds, frames);
   extractor.setRadius(radius);
   extractor.setGridSize(grid);
@@ -84,7 +84,7 @@ PatchSet extractCloud(const TriangleMesh& cloud, const std::vector<Eigen::Vector
                       const pcl::PointCloud<pcl::ReferenceFrame>& frames, double radius, int grid = 16, int threads = 0)
 {
   HeightMapPatchExtractor extractor;
-  extractor.setInputCloud(cloud);
+  extractor.setInputCloud(std::make_shared<const TriangleMesh>(cloud));
   extractor.setSeeds(seeds, frames);
   extractor.setRadius(radius);
   extractor.setGridSize(grid);
@@ -392,7 +392,7 @@ TEST(HeightMapPatchExtractorErrors, BadInputIsRejectedWithOneLine)
     expectError(extractor, "no input");
   }
   HeightMapPatchExtractor extractor;
-  extractor.setInputMesh(plane);
+  extractor.setInputMesh(std::make_shared<const TriangleMesh>(plane));
   extractor.setRadius(0.1);
   extractor.setSeeds(seeds, identityFrames(2));
   expectError(extractor, "frames count");
@@ -420,17 +420,17 @@ TEST(HeightMapPatchExtractorErrors, BadInputIsRejectedWithOneLine)
   extractor.setSeeds(seeds, identityFrames(1));
   TriangleMesh bare = plane;
   bare.faces.clear();
-  extractor.setInputMesh(bare);
+  extractor.setInputMesh(std::make_shared<const TriangleMesh>(bare));
   expectError(extractor, "mesh without faces");
   TriangleMesh broken = plane;
   broken.faces[0][1] = 1000;
-  extractor.setInputMesh(broken);
+  extractor.setInputMesh(std::make_shared<const TriangleMesh>(broken));
   expectError(extractor, "face index out of range");
-  extractor.setInputCloud(TriangleMesh());
+  extractor.setInputCloud(std::make_shared<const TriangleMesh>(TriangleMesh()));
   expectError(extractor, "empty cloud");
 
   // And the valid configuration works.
-  extractor.setInputMesh(plane);
+  extractor.setInputMesh(std::make_shared<const TriangleMesh>(plane));
   PatchSet out;
   EXPECT_NO_THROW(extractor.compute(out));
   EXPECT_EQ(out.numPatches(), 1u);

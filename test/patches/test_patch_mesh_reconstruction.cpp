@@ -27,7 +27,7 @@ PatchSet extractRandom(const TriangleMesh& mesh, std::size_t count, double side,
   for (const auto face : seeds.face_ids)
     frames.push_back(referenceFrameFromNormal(mesh.faceNormal(static_cast<std::size_t>(face))));
   HeightMapPatchExtractor extractor;
-  extractor.setInputMesh(mesh);
+  extractor.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
   extractor.setSeeds(seeds.points, frames);
   extractor.setRadius(side / std::sqrt(2.0));
   extractor.setGridSize(grid);
@@ -43,8 +43,8 @@ TEST(PatchMeshReconstruction, PlaneRoundTripIsExactWithBilinearHeights)
   TriangleMesh plane = makePlaneGrid(40, 40);
   const PatchSet patches = extractRandom(plane, 2000, 0.1, 16, 3);
   PatchMeshReconstruction reconstruction;
-  reconstruction.setPatches(patches);
-  reconstruction.setTargetMesh(plane);
+  reconstruction.setPatches(std::make_shared<const PatchSet>(patches));
+  reconstruction.setTargetMesh(std::make_shared<const TriangleMesh>(plane));
   TriangleMesh out;
   PatchMeshReconstruction::Report report;
   reconstruction.compute(out, &report);
@@ -87,8 +87,8 @@ TEST(PatchMeshReconstruction, UncoveredVerticesTakeTheirRing)
     left.observed.col(static_cast<Eigen::Index>(i)) = patches.observed.col(keep[i]);
   }
   PatchMeshReconstruction reconstruction;
-  reconstruction.setPatches(left);
-  reconstruction.setTargetMesh(plane);
+  reconstruction.setPatches(std::make_shared<const PatchSet>(left));
+  reconstruction.setTargetMesh(std::make_shared<const TriangleMesh>(plane));
   TriangleMesh out;
   PatchMeshReconstruction::Report report;
   reconstruction.compute(out, &report);
@@ -114,8 +114,8 @@ TEST(PatchMeshReconstruction, ReliefAndBunnyIdentityRoundTrips)
     const auto count = static_cast<std::size_t>(12.0 * mesh->surfaceArea() / (0.03 * 0.03));
     const PatchSet patches = extractRandom(*mesh, count, 0.03, 16, 11);
     PatchMeshReconstruction reconstruction;
-    reconstruction.setPatches(patches);
-    reconstruction.setTargetMesh(*mesh);
+    reconstruction.setPatches(std::make_shared<const PatchSet>(patches));
+    reconstruction.setTargetMesh(std::make_shared<const TriangleMesh>(*mesh));
     double psnr_of[2], rmse_of[2];
     for (const auto rule : {PatchMeshReconstruction::Rule::BinCentres, PatchMeshReconstruction::Rule::Bilinear}) {
       reconstruction.setRule(rule);
@@ -145,8 +145,8 @@ TEST(PatchMeshReconstruction, RejectsMissingInput)
   TriangleMesh out;
   EXPECT_THROW(reconstruction.compute(out), Error);
   PatchSet empty;
-  reconstruction.setPatches(empty);
+  reconstruction.setPatches(std::make_shared<const PatchSet>(empty));
   const TriangleMesh plane = makePlaneGrid(2, 2);
-  reconstruction.setTargetMesh(plane);
+  reconstruction.setTargetMesh(std::make_shared<const TriangleMesh>(plane));
   EXPECT_THROW(reconstruction.compute(out), Error);  // grid 0, radius 0
 }

@@ -42,7 +42,7 @@ PatchSet samplePatchSet()
     frames.push_back(frame);
   }
   HeightMapPatchExtractor extractor;
-  extractor.setInputMesh(relief);
+  extractor.setInputMesh(std::make_shared<const TriangleMesh>(relief));
   extractor.setSeeds(seeds, frames);
   extractor.setRadius(0.12);
   extractor.setGridSize(12);

@@ -62,7 +62,7 @@ TEST(QuadFrameEstimation, APlaneGridGetsOneFrameEverywhere)
       grid.faces.push_back(face);
     }
   QuadFrameEstimation estimation;
-  estimation.setInputQuadMesh(grid);
+  estimation.setInputQuadMesh(std::make_shared<const QuadMesh>(grid));
   estimation.setOverlap(1);
   std::vector<Eigen::Vector3d> seeds;
   pcl::PointCloud<pcl::ReferenceFrame> frames;
@@ -96,12 +96,12 @@ TEST(QuadFrameEstimation, FramesOnASphereAreOrthonormalRadialAndConsistent)
 {
   const TriangleMesh sphere = makeIcosphere(5, 0.5);
   QuadRemesher remesher;
-  remesher.setInputMesh(sphere);
+  remesher.setInputMesh(std::make_shared<const TriangleMesh>(sphere));
   remesher.setQuadLength(0.05);
   QuadMesh quads;
   remesher.process(quads);
   QuadFrameEstimation estimation;
-  estimation.setInputQuadMesh(quads);
+  estimation.setInputQuadMesh(std::make_shared<const QuadMesh>(quads));
   std::vector<Eigen::Vector3d> seeds;
   pcl::PointCloud<pcl::ReferenceFrame> frames;
   estimation.compute(seeds, frames);
@@ -124,13 +124,13 @@ TEST(QuadFrameEstimation, BadInput)
   std::vector<Eigen::Vector3d> seeds;
   pcl::PointCloud<pcl::ReferenceFrame> frames;
   EXPECT_THROW(estimation.compute(seeds, frames), Error);
-  QuadMesh mesh;
+  const auto mesh = std::make_shared<QuadMesh>();  // shared: the edits below reach the estimation
   estimation.setInputQuadMesh(mesh);
   EXPECT_THROW(estimation.compute(seeds, frames), Error);  // no faces
-  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
-  mesh.faces = {{0, 1, 2, 7}};
+  mesh->vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  mesh->faces = {{0, 1, 2, 7}};
   EXPECT_THROW(estimation.compute(seeds, frames), Error);  // index out of range
-  mesh.faces = {{0, 1, 2, 3}, {0, 0, 0}};  // the degenerate face gives no seed
+  mesh->faces = {{0, 1, 2, 3}, {0, 0, 0}};  // the degenerate face gives no seed
   estimation.setOverlap(0);
   estimation.compute(seeds, frames);
   EXPECT_EQ(seeds.size(), 1u);

@@ -31,7 +31,7 @@ QuadMesh remesh(const TriangleMesh& mesh, double length, std::uint64_t seed = 0,
                 QuadRemesher::Report* report = nullptr)
 {
   QuadRemesher remesher;
-  remesher.setInputMesh(mesh);
+  remesher.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
   remesher.setQuadLength(length);
   remesher.setSeed(seed);
   remesher.setNumberOfThreads(threads);
@@ -208,10 +208,10 @@ TEST(QuadRemesher, BadInputIsRefusedOrGivesAnEmptyMesh)
   QuadMesh out;
   EXPECT_THROW(remesher.process(out), Error);  // no input
   TriangleMesh empty;
-  remesher.setInputMesh(empty);
+  remesher.setInputMesh(std::make_shared<const TriangleMesh>(empty));
   EXPECT_THROW(remesher.process(out), Error);
   const TriangleMesh sphere = makeIcosphere(3, 0.5);
-  remesher.setInputMesh(sphere);
+  remesher.setInputMesh(std::make_shared<const TriangleMesh>(sphere));
   for (const double bad : {0.0, -1.0, std::nan("")}) {
     remesher.setQuadLength(bad);
     EXPECT_THROW(remesher.process(out), Error);
@@ -227,7 +227,7 @@ TEST(QuadRemesher, BadInputIsRefusedOrGivesAnEmptyMesh)
   TriangleMesh triangle;
   triangle.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   triangle.faces = {{0, 1, 2}};
-  remesher.setInputMesh(triangle);
+  remesher.setInputMesh(std::make_shared<const TriangleMesh>(triangle));
   remesher.setQuadLength(0.1);
   EXPECT_NO_THROW(remesher.process(out));
   EXPECT_GT(out.faces.size(), 10u);
@@ -237,7 +237,7 @@ TEST(QuadRemesher, BadInputIsRefusedOrGivesAnEmptyMesh)
     two.vertices.push_back(v + Eigen::Vector3d(1.0, 0.0, 0.0));
   for (const auto& f : makeIcosphere(4, 0.25).faces)
     two.faces.push_back({f[0] + static_cast<int>(offset), f[1] + static_cast<int>(offset), f[2] + static_cast<int>(offset)});
-  remesher.setInputMesh(two);
+  remesher.setInputMesh(std::make_shared<const TriangleMesh>(two));
   remesher.setQuadLength(0.05);
   remesher.process(out);
   EXPECT_EQ(eulerCharacteristic(out), 4);  // two spheres

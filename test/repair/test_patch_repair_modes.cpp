@@ -72,12 +72,11 @@ TEST(PatchRepairModes, HolesWithoutPatchesAreLiepaBitForBit)
 {
   const TriangleMesh holed = holedRelief(0.1);
   HoleFilling filling;
-  filling.setInputMesh(holed);
+  filling.setInputMesh(std::make_shared<const TriangleMesh>(holed));
   TriangleMesh liepa;
   filling.process(liepa);
-  SparsePatchInpainter inpainter;
-  inpainter.setMode(SparsePatchInpainter::Mode::Holes);
-  inpainter.setInputMesh(holed);
+  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Holes);
+  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(holed));
   inpainter.setHoleFilling(filling);
   inpainter.setUsePatches(false);
   TriangleMesh out;
@@ -96,9 +95,8 @@ TEST(PatchRepairModes, SelfSimilarPatchesFillAReliefHoleBetterThanLiepa)
   // fair fill is smooth, the relief is not; a dictionary learned from the intact part copies it.
   // The defaults find that out themselves (the prediction check) and switch to the relief settings.
   const TriangleMesh holed = holedRelief(0.1);
-  SparsePatchInpainter inpainter;
-  inpainter.setMode(SparsePatchInpainter::Mode::Holes);
-  inpainter.setInputMesh(holed);
+  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Holes);
+  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(holed));
   inpainter.setParameters(SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes));
   inpainter.setUsePatches(false);
   TriangleMesh liepa, patched;
@@ -154,9 +152,8 @@ TEST(PatchRepairModes, ASmoothSurfaceKeepsTheSmoothSettings)
     if ((sphere.vertices[f[0]] - Eigen::Vector3d(0, 0, 1)).norm() > 0.15)
       kept.push_back(f);
   sphere.faces = kept;
-  SparsePatchInpainter inpainter;
-  inpainter.setMode(SparsePatchInpainter::Mode::Holes);
-  inpainter.setInputMesh(sphere);
+  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Holes);
+  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(sphere));
   inpainter.setParameters(SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes));
   TriangleMesh out;
   SparsePatchInpainter::Report report;
@@ -202,9 +199,8 @@ TEST(PatchRepairModes, DenoisingBaseRemovesMostOfTheNoiseAndKeepsTheMesh)
   const TriangleMesh clean = makeIcosphere(5);
   const double sigma = 0.5 * clean.meanEdgeLength();
   const TriangleMesh noisy = noisySphere(5, sigma, 5);
-  SparsePatchInpainter inpainter;
-  inpainter.setMode(SparsePatchInpainter::Mode::Denoise);
-  inpainter.setInputMesh(noisy);
+  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Denoise);
+  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(noisy));
   inpainter.setUsePatches(false);
   TriangleMesh out;
   SparsePatchInpainter::Report report;
@@ -222,9 +218,8 @@ TEST(PatchRepairModes, DenoisingBaseRemovesMostOfTheNoiseAndKeepsTheMesh)
 TEST(PatchRepairModes, DenoisingWithPatchesIsDeterministicAndStaysNearTheSurface)
 {
   const TriangleMesh noisy = noisySphere(4, 0.5 * makeIcosphere(4).meanEdgeLength(), 7);
-  SparsePatchInpainter inpainter;
-  inpainter.setMode(SparsePatchInpainter::Mode::Denoise);
-  inpainter.setInputMesh(noisy);
+  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Denoise);
+  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(noisy));
   TriangleMesh first, second;
   SparsePatchInpainter::Report report;
   inpainter.process(first, &report);
@@ -248,20 +243,19 @@ TEST(PatchRepairModes, DenoisingWithPatchesIsDeterministicAndStaysNearTheSurface
 
 TEST(PatchRepairModes, BadParametersAndInputsAreErrors)
 {
-  SparsePatchInpainter inpainter;
-  inpainter.setMode(SparsePatchInpainter::Mode::Denoise);
+  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Denoise);
   TriangleMesh out;
   EXPECT_THROW(inpainter.process(out), Error);  // no input
   TriangleMesh cloud = makeIcosphere(2);
   cloud.faces.clear();
-  inpainter.setInputMesh(cloud);
+  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(cloud));
   EXPECT_THROW(inpainter.process(out), Error);  // no faces
   TriangleMesh bad = makeIcosphere(2);
   bad.vertices[3].x() = std::nan("");
-  inpainter.setInputMesh(bad);
+  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(bad));
   EXPECT_THROW(inpainter.process(out), Error);
   const TriangleMesh sphere = makeIcosphere(2);
-  inpainter.setInputMesh(sphere);
+  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(sphere));
   inpainter.setUsePatches(false);  // the Taubin base alone: a good parameter set must run (checked last)
   // Each a bad value of one parameter; a NaN discrepancy factor, for one, would otherwise run the
   // maximum iteration count silently.

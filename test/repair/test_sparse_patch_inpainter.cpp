@@ -62,8 +62,8 @@ TEST(SparsePatchInpainter, BiLaplacianReproducesALinearFieldExactly)
   for (int v : missing)
     damaged.vertices[static_cast<std::size_t>(v)] = Eigen::Vector3d(5.0, -3.0, 9.0);  // must be ignored
 
-  SparsePatchInpainter inpainter;
-  inpainter.setInputMesh(damaged);
+  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::MissingVertices);
+  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(damaged));
   inpainter.setMissingVertices(missing);
   inpainter.setUsePatches(false);
   TriangleMesh out;
@@ -129,8 +129,8 @@ TEST(SparsePatchInpainter, PatchesBeatTheBiLaplacianOnASinusoidalRelief)
     const int i = v % 65, j = v / 65;
     return i >= 2 && j >= 2 && i <= 62 && j <= 62;
   });
-  SparsePatchInpainter inpainter;
-  inpainter.setInputMesh(truth);  // the missing vertices' input positions are ignored
+  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::MissingVertices);
+  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(truth));  // the missing vertices' input positions are ignored
   inpainter.setMissingVertices(missing);
   inpainter.setParameters(parameters);
   inpainter.setUsePatches(false);
@@ -151,8 +151,8 @@ TEST(SparsePatchInpainter, PatchesBeatTheBiLaplacianOnASinusoidalRelief)
 TEST(SparsePatchInpainter, BadInputIsAnError)
 {
   const TriangleMesh mesh = makePlaneGrid(8, 8);
-  SparsePatchInpainter inpainter;
-  inpainter.setInputMesh(mesh);
+  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::MissingVertices);
+  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
   inpainter.setUsePatches(false);
   TriangleMesh out;
   inpainter.setMissingVertices({3, static_cast<int>(mesh.numVertices())});
@@ -191,8 +191,8 @@ TEST(SparsePatchInpainter, BadInputIsAnError)
   std::vector<int> second;
   for (std::size_t v = 0; v < other.numVertices(); ++v)
     second.push_back(offset + static_cast<int>(v));
-  SparsePatchInpainter separate;
-  separate.setInputMesh(two);
+  SparsePatchInpainter separate(SparsePatchInpainter::Mode::MissingVertices);
+  separate.setInputMesh(std::make_shared<const TriangleMesh>(two));
   separate.setUsePatches(false);
   separate.setMissingVertices(second);
   EXPECT_THROW(separate.process(out), Error);

@@ -81,7 +81,8 @@ public:
   bool violates(const Eigen::Vector3d& p) const;
 
 private:
-  const DepthImage* image_;
+  PinholeCamera camera_;                 // a copy: the test keeps no pointer to the image
+  std::size_t width_ = 0, height_ = 0;
   std::vector<double> nearest_;  // the 3 × 3 minimum of the measured depths (inf where none)
   double spacing_factor_, relative_depth_;
 };

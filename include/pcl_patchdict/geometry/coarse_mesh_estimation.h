@@ -75,8 +75,8 @@ public:
     double seconds_normals = 0.0, seconds_poisson = 0.0, seconds_trim = 0.0, seconds_smooth = 0.0;
   };
 
-  /** A mesh to smooth (the mesh is not copied: it must outlive process()). Clears a cloud. */
-  void setInputMesh(const TriangleMesh& mesh);
+  /** A mesh to smooth, shared (kept alive until it is replaced). Clears a cloud. */
+  void setInputMesh(const std::shared_ptr<const TriangleMesh>& mesh);
   /** A bare cloud: normals are estimated and oriented (see the class comment). Clears a mesh. */
   void setInputCloud(const pcl::PointCloud<pcl::PointXYZ>::ConstPtr& cloud);
   /** A cloud with normals (unit or not; oriented consistently, outwards). Clears a mesh. */
@@ -122,7 +122,7 @@ private:
   void smooth(const TriangleMesh& input, TriangleMesh& out, Report* report) const;
   void processCloud(TriangleMesh& out, Report* report) const;
 
-  const TriangleMesh* input_ = nullptr;
+  std::shared_ptr<const TriangleMesh> input_;
   pcl::PointCloud<pcl::PointXYZ>::ConstPtr cloud_;
   pcl::PointCloud<pcl::PointNormal>::ConstPtr cloud_with_normals_;
   int iterations_ = 30;

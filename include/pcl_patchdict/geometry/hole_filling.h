@@ -76,7 +76,8 @@ public:
     double seconds_triangulation = 0.0, seconds_refinement = 0.0, seconds_fairing = 0.0;
   };
 
-  void setInputMesh(const TriangleMesh& mesh) { input_ = &mesh; }
+  /** The mesh to fill, shared (PCL's rule: the filling keeps it alive until it is replaced). */
+  void setInputMesh(const std::shared_ptr<const TriangleMesh>& mesh) { input_ = mesh; }
   /** At most this many edges (0: no limit). */
   void setMaxHoleEdges(std::size_t edges) { max_hole_edges_ = edges; }
   std::size_t getMaxHoleEdges() const { return max_hole_edges_; }
@@ -104,7 +105,7 @@ public:
   void process(TriangleMesh& out, Report* report = nullptr) const;
 
 private:
-  const TriangleMesh* input_ = nullptr;
+  std::shared_ptr<const TriangleMesh> input_;
   std::size_t max_hole_edges_ = 0;
   double max_hole_diameter_ = std::numeric_limits<double>::infinity();
   double outer_boundary_fraction_ = 0.5;

@@ -45,10 +45,10 @@ public:
 
   /** Seeds and their frames (one pcl::ReferenceFrame per seed). */
   void setSeeds(const std::vector<Eigen::Vector3d>& seeds, const pcl::PointCloud<pcl::ReferenceFrame>& frames);
-  /** Exact heights from the mesh's triangles (clears a cloud set before). The mesh is copied. */
-  void setInputMesh(const TriangleMesh& mesh);
+  /** Exact heights from the mesh's triangles (clears a cloud set before). Shared: kept alive until replaced. */
+  void setInputMesh(const std::shared_ptr<const TriangleMesh>& mesh);
   /** Binned heights from the vertices (faces ignored; clears a mesh set before). */
-  void setInputCloud(const TriangleMesh& cloud_as_vertices);
+  void setInputCloud(const std::shared_ptr<const TriangleMesh>& cloud_as_vertices);
   /** r: neighbourhood radius; patch side √2·r. */
   void setRadius(double radius) { radius_ = radius; }
   double getRadius() const { return radius_; }
@@ -72,7 +72,7 @@ private:
   void computeCloud(PatchSet& out) const;
 
   Mode mode_ = Mode::None;
-  TriangleMesh surface_;
+  std::shared_ptr<const TriangleMesh> surface_;  ///< faces ignored in Mode::Cloud
   std::vector<Eigen::Vector3d> seeds_;
   std::vector<Eigen::Matrix3d> rotations_;
   std::size_t num_frames_ = 0;

@@ -34,7 +34,7 @@ struct VertexPatchSample {
   *    round trips (test ReliefAndBunnyIdentityRoundTrips) its vertex RMSE is lower than
   *    BinCentres' and its surface PSNR slightly lower (a bin-centre point lies exactly on the
   *    sampled surface, only displaced along it); figures in docs/. Vertex positions are what inpainting is judged
-  *    by, and FINDINGS.md shows tangential drift is what loses to the bi-Laplacian.
+  *    by, and tangential drift is what we measured losing to the bi-Laplacian.
   * Estimates whose bins are unobserved, or whose height is more than half a patch side from the
   * vertex's own (another sheet of a folded surface), are skipped. Of three or more estimates,
   * those farther than 3 × their median distance from the coordinate-wise median (and more than
@@ -59,9 +59,10 @@ public:
     std::vector<char> off_surface;
   };
 
-  void setPatches(const PatchSet& patches) { patches_ = &patches; }
+  /** The patches, shared (kept alive until they are replaced). */
+  void setPatches(const std::shared_ptr<const PatchSet>& patches) { patches_ = patches; }
   /** The target mesh M_r: its vertices are re-estimated, its faces give the 1-rings. */
-  void setTargetMesh(const TriangleMesh& mesh) { target_ = &mesh; }
+  void setTargetMesh(const std::shared_ptr<const TriangleMesh>& mesh) { target_ = mesh; }
   void setRule(Rule rule) { rule_ = rule; }
   Rule getRule() const { return rule_; }
 
@@ -74,8 +75,8 @@ public:
 private:
   void checkInput() const;
 
-  const PatchSet* patches_ = nullptr;
-  const TriangleMesh* target_ = nullptr;
+  std::shared_ptr<const PatchSet> patches_;
+  std::shared_ptr<const TriangleMesh> target_;
   Rule rule_ = Rule::Bilinear;
 };
 

@@ -1,5 +1,5 @@
 // Multi-resolution vertex graph and extrinsic 4-RoSy orientation field — the first stage of
-// field-aligned quad remeshing after Jakob, Tarini, Panozzo & Sorkine-Hornung 2015 (§2.2, §2.4 of ALGORITHMS.md).
+// field-aligned quad remeshing after Jakob, Tarini, Panozzo & Sorkine-Hornung 2015 (§2.2, §2.4; docs/design.md, "Field-aligned quads").
 #pragma once
 
 #include <pcl_patchdict/core/triangle_mesh.h>
@@ -45,7 +45,7 @@ struct FieldHierarchy {
   std::size_t numLevels() const { return levels.size(); }
 };
 
-/** \brief Builds the hierarchy (Jakob et al. 2015 §5; ALGORITHMS.md 2.4).
+/** \brief Builds the hierarchy (Jakob et al. 2015 §5).
   * Level 0: mesh vertices, angle-weighted normals, one third of the incident face areas, weight 1
   * per edge. Each coarser level greedily matches edges in descending order of
   * (n_i·n_k)·max(A_i/A_k, A_k/A_i) (stable sort, ties by edge index, hence deterministic).

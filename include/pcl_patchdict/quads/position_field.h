@@ -56,7 +56,7 @@ struct PositionFieldParameters {
 std::vector<std::vector<Eigen::Vector3d>> restrictOrientationField(const FieldHierarchy& hierarchy,
                                                                    const std::vector<Eigen::Vector3d>& field);
 
-/** \brief Smooth extrinsic 4-PoSy field by hierarchical Gauss–Seidel (ALGORITHMS.md 2.3–2.4):
+/** \brief Smooth extrinsic 4-PoSy field by hierarchical Gauss–Seidel (Jakob et al. 2015 §3–5):
   * random origins within one spacing of each vertex on the coarsest level, sweeps per level in
   * colour phases, prolongation by projection onto the children's tangent planes. Each returned
   * origin is the lattice point nearest its level-0 vertex, on its tangent plane.

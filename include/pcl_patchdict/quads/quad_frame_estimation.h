@@ -36,7 +36,8 @@ public:
   using Ptr = std::shared_ptr<QuadFrameEstimation>;
   using ConstPtr = std::shared_ptr<const QuadFrameEstimation>;
 
-  void setInputQuadMesh(const QuadMesh& mesh) { input_ = &mesh; }
+  /** The quad mesh, shared (kept alive until it is replaced). */
+  void setInputQuadMesh(const std::shared_ptr<const QuadMesh>& mesh) { input_ = mesh; }
   /** Overlap level k ≥ 0 (default 1: centre + 4 offsets per face). */
   void setOverlap(int overlap) { overlap_ = overlap; }
   int getOverlap() const { return overlap_; }
@@ -52,7 +53,7 @@ public:
   std::vector<Eigen::Matrix3d> computeFaceFrames() const;
 
 private:
-  const QuadMesh* input_ = nullptr;
+  std::shared_ptr<const QuadMesh> input_;
   int overlap_ = 1;
 };
 

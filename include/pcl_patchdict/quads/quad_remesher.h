@@ -33,7 +33,8 @@ public:
            seconds_extraction = 0.0;
   };
 
-  void setInputMesh(const TriangleMesh& mesh) { input_ = &mesh; }
+  /** The mesh to remesh, shared (kept alive until it is replaced). */
+  void setInputMesh(const std::shared_ptr<const TriangleMesh>& mesh) { input_ = mesh; }
   /** Target edge length L (in the input's units). */
   void setQuadLength(double length) { quad_length_ = length; }
   double getQuadLength() const { return quad_length_; }
@@ -50,7 +51,7 @@ public:
   static constexpr std::size_t max_refined_faces = 20000000;
 
 private:
-  const TriangleMesh* input_ = nullptr;
+  std::shared_ptr<const TriangleMesh> input_;
   double quad_length_ = 0.03;
   std::uint64_t seed_ = 0;
   int iterations_ = 6;
@@ -62,7 +63,7 @@ private:
 TriangleMesh splitLongEdges(const TriangleMesh& mesh, double max_length, std::size_t max_faces = 20000000);
 
 /** \brief Extraction of the quad-dominant mesh from the two fields (Jakob et al. 2015 §6;
-  * ALGORITHMS.md 2.5): mesh edges whose ends round to the same lattice point collapse (union-find,
+  * Jakob et al. 2015 §6): mesh edges whose ends round to the same lattice point collapse (union-find,
   * lowest error first), edges between lattice neighbours become output edges, dangling vertices
   * are pruned, neighbours are sorted by angle about each output vertex, faces are walked in the
   * resulting rotation system, faces of 5–8 sides are split into quads (and a triangle when odd),

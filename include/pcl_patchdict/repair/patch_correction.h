@@ -66,7 +66,7 @@ struct PatchCorrectionReport {
 
 /** \brief From an estimate of the surface (normalised), the part of it that was observed, and a
   * dictionary: for each target vertex, one point-to-plane constraint per patch whose square holds
-  * the vertex (Sarkar et al. 2017, sections 4–5, with the combination of FINDINGS.md).
+  * the vertex (Sarkar et al. 2017, sections 4–5, with the combination of docs/design.md, "Findings that shaped it").
   *
   *  1. patch layout (coarse shape → quads → frames) on the estimate;
   *  2. height maps of the observed faces only; masked OMP (or OMP to the error target ε) fills
@@ -82,19 +82,19 @@ public:
   using ConstPtr = std::shared_ptr<const PatchCorrection>;
 
   /** The current estimate (unit-cube normalised): layout, frames and the targets' positions. */
-  void setEstimate(const TriangleMesh& estimate) { estimate_ = &estimate; }
+  void setEstimate(const std::shared_ptr<const TriangleMesh>& estimate) { estimate_ = estimate; }
   /** One flag per face of the estimate: true = its surface is data (empty: every face). */
   void setObservedFaces(const std::vector<bool>& observed) { observed_faces_ = observed; }
   /** Samples the patches from this surface instead of the estimate's observed faces (denoising:
     * the noisy input, while the estimate is the smoothed base). Any vertex count. */
-  void setObservedSurface(const TriangleMesh& surface) { observed_surface_ = &surface; }
+  void setObservedSurface(const std::shared_ptr<const TriangleMesh>& surface) { observed_surface_ = surface; }
   void setTargets(const std::vector<std::int32_t>& targets) { targets_ = targets; }
   void setDictionary(const PatchDictionary::ConstPtr& dictionary) { dictionary_ = dictionary; }
   void setParameters(const PatchCorrectionParameters& parameters) { parameters_ = parameters; }
   /** A layout of the estimate made before (computePatchLayout with layoutParameters at this
     * correction's L, possibly reseeded at another overlap): used instead of computing one again.
-    * Its L must be this correction's (Error otherwise). Not copied: it must outlive the calls. */
-  void setLayout(const PatchLayout& layout) { layout_ = &layout; }
+    * Its L must be this correction's (Error otherwise). Shared, like every input: null = compute one. */
+  void setLayout(const std::shared_ptr<const PatchLayout>& layout) { layout_ = layout; }
   /** The layout parameters a correction with these parameters uses at quad length L. */
   static PatchLayoutParameters layoutParameters(const PatchCorrectionParameters& parameters, double quad_length);
   const PatchCorrectionParameters& getParameters() const { return parameters_; }
@@ -130,10 +130,10 @@ public:
 private:
   void checkInput() const;
 
-  const TriangleMesh* estimate_ = nullptr;
+  std::shared_ptr<const TriangleMesh> estimate_;
   std::vector<bool> observed_faces_;
-  const TriangleMesh* observed_surface_ = nullptr;
-  const PatchLayout* layout_ = nullptr;
+  std::shared_ptr<const TriangleMesh> observed_surface_;
+  std::shared_ptr<const PatchLayout> layout_;
   std::vector<std::int32_t> targets_;
   PatchDictionary::ConstPtr dictionary_;
   PatchCorrectionParameters parameters_;

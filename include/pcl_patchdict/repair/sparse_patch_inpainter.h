@@ -1,10 +1,11 @@
 // SparsePatchInpainter — repairs a mesh with a dictionary of height-map patches (sections 4.3 and
 // 5.3 of Sarkar et al. 2017), with the geometric solution as the base and the first guess:
-// patches only correct it through confidence-weighted point-to-plane constraints (FINDINGS.md).
+// patches only correct it through confidence-weighted point-to-plane constraints (docs/design.md, "Findings that shaped it").
 #pragma once
 
 #include <pcl_patchdict/geometry/hole_filling.h>
 #include <pcl_patchdict/repair/patch_correction.h>
+#include <pcl_patchdict/repair/patch_repairs.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
 #include <pcl_patchdict/core/triangle_mesh.h>
 
@@ -15,35 +16,15 @@
 namespace pcl {
 namespace patchdict {
 
-/** \brief Repairs a mesh with patches: missing vertices, holes, or noise.
+/** \brief Compatibility wrapper: the three repairs of patch_repairs.h behind one class.
   *
-  * Every mode has a geometric base that is also the whole result with setUsePatches(false), and
-  * the patch stage (PatchCorrection) only corrects it through confidence-weighted point-to-plane
-  * constraints (FINDINGS.md: overwriting vertices with patch heights loses to plain geometry):
-  *  - MissingVertices: base = uniform least-squares bi-Laplacian (Sorkine & Cohen-Or 2004), known
-  *    vertices fixed; patches from the faces whose three vertices are known; one joint solve of
-  *    bi-Laplacian energy + μ·Σ w (n·(x − p))² over the missing vertices. Known vertices bit-identical.
-  *  - Holes: base = HoleFilling (Liepa 2003); patches from the input faces, masked OMP fills the
-  *    hole; the new vertices move by a displacement δ minimising Σ|Lδ|² + μ·Σ w (n·(x0+δ − p))²
-  *    (δ = 0 on the input vertices, so a hole without constraints keeps Liepa's fill). L is at
-  *    least hole_quad_factor × the median diameter of the filled holes: a patch must see the rim.
-  *    Measured (docs/hole_size_sweep.csv): on relief (sole, knurl, tiles) self-similar patches
-  *    with the relief settings leave 0.25–0.50 of Liepa's error for holes of radius 0.02–0.07
-  *    (0.36–0.81 at 0.01); on smooth scans no μ tried moves the result beyond the draw-to-draw
-  *    spread around Liepa (a few per cent either way).
-  *  - Denoise: every patch coded to the error target ε = error_factor × σ (σ: the noise level
-  *    given, or estimated from the normal component of the umbrella vectors) or with `sparsity`
-  *    atoms; each vertex moves to the weighted least-squares point of its patches' tangent planes
-  *    with a fidelity term α·Σw·|δ|² around the base, TaubinSmoother with the iteration count of
-  *    the discrepancy principle; vertex count, order and faces kept. Measured on scans (boot,
-  *    noise 0.5 × edge): the patch estimates are worse than the base (the scans are not sparse in
-  *    the atoms at the edge scale: clean boot patches coded with 8 atoms keep 0.13 edge of error).
-  * Without a dictionary a self-similar one is learned from the observed patches (masked K-SVD).
-  * All lengths in the unit-cube normalisation of the input; the output goes back to its frame.
-  * Deterministic for a given input and parameters, whatever the thread count.
-  *
-  * Measured (harness cases): see README "Measured" — missing vertices within ±0.1 % of the
-  * bi-Laplacian (its error there is mostly tangential, which normal constraints cannot reduce). */
+  * New code calls fillMissingVertices, fillHolesWithPatches or denoiseWithPatches (each with its
+  * own options, whose defaults are that repair's). This class keeps the older shape for the tool
+  * and existing callers: the mode is fixed at construction and the parameters start at that
+  * mode's defaults (defaultParameters(mode)), so no mode can run with another's settings.
+  * process() converts the parameters to the mode's options and calls its function: the same
+  * result, bit for bit. The input is shared (setInputMesh takes a ConstPtr, as every class of the
+  * library that keeps an input does). See patch_repairs.h for what each mode does. */
 class SparsePatchInpainter {
 public:
   using Ptr = std::shared_ptr<SparsePatchInpainter>;
@@ -54,31 +35,28 @@ public:
   struct Parameters : PatchCorrectionParameters {
     double constraint_weight = 0.03;  ///< μ of the missing-vertex and hole solves
     /// Holes: L ≥ this × median diameter of the filled holes (normalised units).
-    double hole_quad_factor = 0.6;  ///< (relief test: 0.6 → −42 % error vs Liepa, 1.0 → +100 %)
+    double hole_quad_factor = 0.6;  ///< (larger sides lost to Liepa on the relief test)
     /// Holes: which settings — Auto measures with checkPatchPrediction whether the dictionary
     /// predicts a hidden disc (relief_probe_radius × the median hole diameter d, at most 0.3 × the
     /// patch side) better than a biharmonic fill, for patch sides relief_probe_factors × d on one
     /// layout; gain ≥ relief_gain with a margin ≥ relief_min_improvement → the relief settings at
-    /// the best side. Measured gains: smooth scans 0.67–1.09 (harness holes of radius 0.02 and
-    /// 0.035 on boot, demosthenes, max_planck, lucy), sole/knurl/tiles 1.49–7.5. Smooth
+    /// the best side (the gains measured on smooth and relief scans: docs/results.md). Smooth
     /// keeps the parameters as given; Relief forces the relief settings. A quad_length given by
     /// the caller (> 0) is kept by both, with its patch side patch_scale × L (the paper's Fig. 8a
     /// protocol); the check then probes that layout at that patch side, and only decides relief or
     /// smooth.
-    enum class HoleSettings { Auto, Smooth, Relief };
+    using HoleSettings = pcl::patchdict::HoleSettings;
     HoleSettings hole_settings = HoleSettings::Auto;
     std::vector<double> relief_probe_factors{0.8, 1.2, 1.6};  ///< patch sides, × d (one layout: the smooth L, if automatic)
     double relief_probe_radius = 0.35;  ///< hidden disc radius of the probe, × d
     /// The verdict probe on the smooth settings' layout uses at most this many of its seeds, evenly
-    /// spaced (0: all): it needs tens of test patches, not thousands (lucy, 100k faces: 1.3 → 0.6 s).
+    /// spaced (0: all): it needs tens of test patches, not thousands.
     /// A relief verdict is followed by a full probe that picks the patch side.
     int relief_probe_max_seeds = 600;
-    double relief_gain = 1.3;  ///< (1.5 missed the sole at radius 0.05: gain 1.49)
-    /// …and only if the dictionary's error is below the biharmonic one by this × mean edge
-    /// (measured: sole 0.87, knurl 0.63, tiles 0.72; a perfect sphere ~0).
+    double relief_gain = 1.3;  ///< (a higher bar missed the sole at radius 0.05)
+    /// …and only if the dictionary's error is below the biharmonic one by this × mean edge.
     double relief_min_improvement = 0.1;
-    /// Relief settings (sole, harness holes 0.035: removed→out 2.899 → 1.046 with these, L 0.8 d):
-    /// μ 10, overlap 2, no fit or agreement weighting (the relief's own patches fit and agree).
+    /// Relief settings: μ 10, overlap 2, no fit or agreement weighting (the relief's own patches fit and agree).
     double relief_constraint_weight = 10.0;
     int relief_overlap = 2;
     /// Denoise: the noise σ along the normals (normalised units; 0 = estimated).
@@ -89,8 +67,7 @@ public:
     /// iterations; −1 = automatic, the first count whose rms displacement reaches discrepancy × σ
     /// (Morozov's discrepancy principle); 0 = the noisy input itself.
     int base_iterations = -1;
-    /// Measured at noise 0.5 × edge (boot, demosthenes, lucy): 0.9 → 2.870 / 3.437 / 1.352, 0.95 →
-    /// 2.906 / 3.360 / 1.355, 1.0 → 3.015 / 3.391 / 1.393 (×1e-3; Open3D Taubin oracle 2.929 / 3.398 / 1.376).
+    /// (chosen by measurement at noise 0.5 × edge: docs/results.md)
     double discrepancy = 0.95;
     int max_base_iterations = 100;
   };
@@ -115,15 +92,15 @@ public:
     double seconds_base = 0.0, seconds_patch_stage = 0.0, seconds_solve = 0.0;
   };
 
-  SparsePatchInpainter() = default;
+  /** A repair of this mode, its parameters at defaultParameters(mode). */
+  explicit SparsePatchInpainter(Mode mode) : mode_(mode), parameters_(defaultParameters(mode)) {}
 
-  /** The measured defaults of a mode (the Parameters' own defaults are the missing-vertex ones):
-    * Holes: μ 0.1, fit_scale 0.02 (harness holes 0.035, self-similar: within 1.2 % of Liepa on
-    * boot, demosthenes, max_planck and lucy — a tie; larger μ was worse); Denoise:
-    * quad_length_factor 6, sparsity 20. */
+  /** The measured defaults of a mode: those of its options struct (MissingVerticesOptions,
+    * HoleRepairOptions, DenoiseOptions). A Parameters built by hand has the missing-vertex ones:
+    * start from this (or getParameters()) before setParameters. */
   static Parameters defaultParameters(Mode mode);
 
-  void setInputMesh(const TriangleMesh& mesh) { input_ = std::make_shared<const TriangleMesh>(mesh); }
+  /** The mesh to repair, shared (kept alive until replaced). */
   void setInputMesh(const std::shared_ptr<const TriangleMesh>& mesh) { input_ = mesh; }
   /** Dictionary to code the patches with (null: self-similar, learned from the input). */
   void setDictionary(const PatchDictionary::ConstPtr& dictionary) { dictionary_ = dictionary; }
@@ -131,7 +108,6 @@ public:
   void setHoleFilling(const HoleFilling& filling) { hole_filling_ = filling; }
   /** Indices of the vertices whose positions are unknown (their input positions are ignored). */
   void setMissingVertices(const std::vector<int>& indices) { missing_ = indices; }
-  void setMode(Mode mode) { mode_ = mode; }
   Mode getMode() const { return mode_; }
   /** false: the geometric base alone (bi-Laplacian, Liepa, or the input for Denoise). */
   void setUsePatches(bool use_patches) { use_patches_ = use_patches; }
@@ -152,16 +128,15 @@ public:
     * missing, non-finite positions, an empty dictionary or one whose N is not the grid size. */
   void process(TriangleMesh& out, Report* report = nullptr) const;
 
-  /** Estimated σ of noise along the normals: 1.4826 × median |n·(x − mean of the 1-ring)| /
-    * √(1 + 1/k̄) (robust; curvature adds a small bias on clean meshes). */
-  static double estimateNoiseSigma(const TriangleMesh& mesh);
+  /** pcl::patchdict::estimateNoiseSigma. */
+  static double estimateNoiseSigma(const TriangleMesh& mesh) { return pcl::patchdict::estimateNoiseSigma(mesh); }
 
 private:
   std::shared_ptr<const TriangleMesh> input_;
   PatchDictionary::ConstPtr dictionary_;
   std::vector<int> missing_;
   HoleFilling hole_filling_;
-  Mode mode_ = Mode::MissingVertices;
+  Mode mode_;
   bool use_patches_ = true;
   Parameters parameters_;
 };
