@@ -241,7 +241,10 @@ def run_step(side, argv, out_root, folder, env):
     start = time.monotonic()
     with open(folder + ".stdout", "w") as out, open(folder + ".stderr", "w") as err:
         try:
-            rc = subprocess.run(command, cwd=folder, env=env, stdout=out, stderr=err, timeout=900).returncode
+            # The bundled data of the side's own worktree (demo), written {SRC}/data in the report even when
+            # the build was made in another folder.
+            side_env = dict(env, PCL_PATCHDICT_DATA=os.path.join(side["src"], "data"))
+            rc = subprocess.run(command, cwd=folder, env=side_env, stdout=out, stderr=err, timeout=900).returncode
         except (OSError, subprocess.TimeoutExpired) as e:
             err.write("%s\n" % e)
             rc = -1
@@ -337,7 +340,6 @@ def judge(sides, roots, name, argv, env):
 
 def run_all(sides, step_list, args):
     env = dict(os.environ, OMP_NUM_THREADS=str(args.threads))
-    env.pop("PCL_PATCHDICT_DATA", None)  # each tool finds its own checkout's data/
     roots = [os.path.join(args.work, "out", side["label"]) for side in sides]
     for root in roots:
         if not args.only:  # --only keeps the other steps' outputs, for the steps that read them
