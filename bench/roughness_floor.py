@@ -30,12 +30,11 @@ from real_scans import (PLANE_THRESHOLD, ROUGHNESS_POINTS, ROUGHNESS_RADIUS, fin
 def table_heights(P, region_rows):
     """Signed heights above the table plane, refitted on the band's points near its median height;
     the sign makes the objects positive."""
-    rows, h = region_rows, None
-    n0 = None
+    rows, n0 = region_rows, None
     for _ in range(3):
         Y = P[rows]
         c = Y.mean(0)
-        w, V = np.linalg.eigh((Y - c).T @ (Y - c))
+        V = np.linalg.eigh((Y - c).T @ (Y - c))[1]
         n = V[:, 0] if n0 is None or V[:, 0] @ n0 >= 0 else -V[:, 0]
         n0 = n
         h = (P - c) @ n

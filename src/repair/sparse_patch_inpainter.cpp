@@ -3,41 +3,10 @@
 // called, its report copied.
 #include <pcl_patchdict/repair/sparse_patch_inpainter.h>
 
-#include <pcl_patchdict/core/error.h>
-
-#include <cmath>
-
 namespace pcl {
 namespace patchdict {
 
 namespace {
-
-void checkParameters(const SparsePatchInpainter::Parameters& p)
-{
-  PatchCorrection::checkParameters(p);
-  if (!(p.constraint_weight >= 0.0) || !std::isfinite(p.constraint_weight))
-    throw Error("the constraint weight μ must be ≥ 0");
-  if (!(p.hole_quad_factor >= 0.0) || !std::isfinite(p.hole_quad_factor))
-    throw Error("the hole quad factor must be ≥ 0");
-  if (!(p.noise_sigma >= 0.0) || !std::isfinite(p.noise_sigma))
-    throw Error("the noise level must be ≥ 0 (0: estimated)");
-  if (!(p.error_factor >= 0.0) || !std::isfinite(p.error_factor))
-    throw Error("the error factor must be ≥ 0");
-  if (!(p.fidelity > 0.0) || !std::isfinite(p.fidelity))
-    throw Error("the fidelity weight must be > 0");
-  if (p.base_iterations < -1 || p.max_base_iterations < 0)
-    throw Error("base iterations must be ≥ 0 (−1: by the discrepancy principle), their maximum ≥ 0");
-  if (!(p.discrepancy > 0.0) || !std::isfinite(p.discrepancy))
-    throw Error("the discrepancy factor must be > 0");
-  if (!(p.relief_gain > 0.0) || !std::isfinite(p.relief_gain) || !(p.relief_constraint_weight >= 0.0) ||
-      !std::isfinite(p.relief_constraint_weight) || p.relief_overlap < 0 || p.relief_probe_factors.empty() ||
-      !(p.relief_probe_radius > 0.0) || !std::isfinite(p.relief_probe_radius) ||
-      !(p.relief_min_improvement >= 0.0) || !std::isfinite(p.relief_min_improvement) || p.relief_probe_max_seeds < 0)
-    throw Error("bad relief settings");
-  for (double factor : p.relief_probe_factors)
-    if (!(factor > 0.0) || !std::isfinite(factor))
-      throw Error("relief probe factors must be > 0");
-}
 
 void setCommon(const SparsePatchInpainter::Parameters& p, const PatchDictionary::ConstPtr& dictionary,
                bool use_patches, PatchRepairCommon& options)
@@ -76,41 +45,72 @@ SparsePatchInpainter::Parameters SparsePatchInpainter::defaultParameters(Mode mo
   return parameters;
 }
 
+MissingVerticesOptions SparsePatchInpainter::missingVerticesOptions() const
+{
+  const Parameters& p = parameters_;
+  MissingVerticesOptions options;
+  setCommon(p, dictionary_, use_patches_, options);
+  options.constraint_weight = p.constraint_weight;
+  return options;
+}
+
+HoleRepairOptions SparsePatchInpainter::holeRepairOptions() const
+{
+  const Parameters& p = parameters_;
+  HoleRepairOptions options;
+  setCommon(p, dictionary_, use_patches_, options);
+  options.constraint_weight = p.constraint_weight;
+  options.hole_quad_factor = p.hole_quad_factor;
+  options.hole_settings = p.hole_settings;
+  options.relief_probe_factors = p.relief_probe_factors;
+  options.relief_probe_radius = p.relief_probe_radius;
+  options.relief_probe_max_seeds = p.relief_probe_max_seeds;
+  options.relief_gain = p.relief_gain;
+  options.relief_min_improvement = p.relief_min_improvement;
+  options.relief_constraint_weight = p.relief_constraint_weight;
+  options.relief_overlap = p.relief_overlap;
+  options.filling = hole_filling_;
+  return options;
+}
+
+DenoiseOptions SparsePatchInpainter::denoiseOptions() const
+{
+  const Parameters& p = parameters_;
+  DenoiseOptions options;
+  setCommon(p, dictionary_, use_patches_, options);
+  options.noise_sigma = p.noise_sigma;
+  options.error_factor = p.error_factor;
+  options.fidelity = p.fidelity;
+  options.base_iterations = p.base_iterations;
+  options.discrepancy = p.discrepancy;
+  options.max_base_iterations = p.max_base_iterations;
+  return options;
+}
+
 void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
 {
   Report local_report;
   Report& r = report ? *report : local_report;
   r = Report();
   r.mode = mode_;
-  const Parameters& p = parameters_;
-  checkParameters(p);
-  if (!input_ || input_->empty())
-    throw Error("no input mesh");
+  // Every parameter is checked, whatever the mode, as each repair checks its own options; the
+  // mode's function then checks the input ("no input mesh" when empty).
+  checkMissingVerticesOptions(missingVerticesOptions());
+  checkHoleRepairOptions(holeRepairOptions());
+  checkDenoiseOptions(denoiseOptions());
+  static const TriangleMesh no_input;
+  const TriangleMesh& input = input_ ? *input_ : no_input;
   if (mode_ == Mode::MissingVertices) {
-    MissingVerticesOptions options;
-    setCommon(p, dictionary_, use_patches_, options);
-    options.constraint_weight = p.constraint_weight;
+    const MissingVerticesOptions options = missingVerticesOptions();
     MissingVerticesReport done;
-    fillMissingVertices(*input_, missing_, out, options, &done);
+    fillMissingVertices(input, missing_, out, options, &done);
     copyCommon(done, r);
     r.missing_vertices = done.missing_vertices;
     r.isolated_missing = done.isolated_missing;
   } else if (mode_ == Mode::Holes) {
-    HoleRepairOptions options;
-    setCommon(p, dictionary_, use_patches_, options);
-    options.constraint_weight = p.constraint_weight;
-    options.hole_quad_factor = p.hole_quad_factor;
-    options.hole_settings = p.hole_settings;
-    options.relief_probe_factors = p.relief_probe_factors;
-    options.relief_probe_radius = p.relief_probe_radius;
-    options.relief_probe_max_seeds = p.relief_probe_max_seeds;
-    options.relief_gain = p.relief_gain;
-    options.relief_min_improvement = p.relief_min_improvement;
-    options.relief_constraint_weight = p.relief_constraint_weight;
-    options.relief_overlap = p.relief_overlap;
-    options.filling = hole_filling_;
+    const HoleRepairOptions options = holeRepairOptions();
     HoleRepairReport done;
-    fillHolesWithPatches(*input_, out, options, &done);
+    fillHolesWithPatches(input, out, options, &done);
     copyCommon(done, r);
     r.holes = done.holes;
     r.relief = done.relief;
@@ -120,16 +120,9 @@ void SparsePatchInpainter::process(TriangleMesh& out, Report* report) const
     r.seconds_check_patches = done.seconds_check_patches;
     r.seconds_check_prediction = done.seconds_check_prediction;
   } else {
-    DenoiseOptions options;
-    setCommon(p, dictionary_, use_patches_, options);
-    options.noise_sigma = p.noise_sigma;
-    options.error_factor = p.error_factor;
-    options.fidelity = p.fidelity;
-    options.base_iterations = p.base_iterations;
-    options.discrepancy = p.discrepancy;
-    options.max_base_iterations = p.max_base_iterations;
+    const DenoiseOptions options = denoiseOptions();
     DenoiseReport done;
-    denoiseWithPatches(*input_, out, options, &done);
+    denoiseWithPatches(input, out, options, &done);
     copyCommon(done, r);
     r.noise_sigma = done.noise_sigma;
     r.base_iterations = done.base_iterations;

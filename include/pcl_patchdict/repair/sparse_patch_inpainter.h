@@ -132,6 +132,11 @@ public:
   static double estimateNoiseSigma(const TriangleMesh& mesh) { return pcl::patchdict::estimateNoiseSigma(mesh); }
 
 private:
+  /// The parameters as each repair's options (the dictionary, patches and hole filling included).
+  MissingVerticesOptions missingVerticesOptions() const;
+  HoleRepairOptions holeRepairOptions() const;
+  DenoiseOptions denoiseOptions() const;
+
   std::shared_ptr<const TriangleMesh> input_;
   PatchDictionary::ConstPtr dictionary_;
   std::vector<int> missing_;
