@@ -13,7 +13,7 @@
 #include <pcl_patchdict/eval/mesh_damage.h>
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/core/normalization.h>
-#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
+#include <pcl_patchdict/repair/patch_repairs.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -66,22 +66,16 @@ int main(int argc, char** argv)
       for (double radius : radii) {
         const HoledMesh holed = punchHoles(truth, 6, radius, seed);
         double error[2] = {0.0, 0.0}, added_error[2] = {0.0, 0.0};
-        SparsePatchInpainter::Report report;
+        HoleRepairReport report;
         for (int patches = 0; patches < 2; ++patches) {
-          SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Holes);
-          inpainter.setInputMesh(std::make_shared<const TriangleMesh>(holed.mesh));
-          HoleFilling filling;
-          filling.setMaxHoleDiameter(6.0 * radius);  // the punched holes, not the scan's own openings
-          inpainter.setHoleFilling(filling);
-          SparsePatchInpainter::Parameters parameters =
-              SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes);
-          parameters.quad_length = quad_length;
+          HoleRepairOptions options;
+          options.filling.setMaxHoleDiameter(6.0 * radius);  // the punched holes, not the scan's own openings
+          options.quad_length = quad_length;
           if (quad_length > 0.0)
-            parameters.patch_scale = patch_scale;
-          inpainter.setParameters(parameters);
-          inpainter.setUsePatches(patches == 1);
+            options.patch_scale = patch_scale;
+          options.use_patches = patches == 1;
           TriangleMesh out;
-          inpainter.process(out, &report);
+          fillHolesWithPatches(holed.mesh, out, options, &report);
           const HoleFillScore score = scoreHoleFill(truth, holed, out);
           error[patches] = score.removed_to_output;
           added_error[patches] = score.new_to_truth;

@@ -21,7 +21,7 @@
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/repair/patch_correction.h>
-#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
+#include <pcl_patchdict/repair/patch_repairs.h>
 #include <pcl_patchdict/geometry/taubin_smoothing.h>
 
 #include <chrono>
@@ -47,24 +47,15 @@ struct Result {
   int iterations = 0;       ///< smoothing baselines: the best count
 };
 
-Result repair(SparsePatchInpainter::Mode mode, const TriangleMesh& input, const std::vector<int>& missing,
-              bool patches, const PatchDictionary::ConstPtr& dictionary, TriangleMesh& out)
+/** Runs `run` (one of the repairs) with the repair's default options, timed. */
+template <class Options, class Report, class Run>
+Result timedRepair(Options options, bool patches, const PatchDictionary::ConstPtr& dictionary, Run run)
 {
-  SparsePatchInpainter inpainter(mode);
-  inpainter.setParameters(SparsePatchInpainter::defaultParameters(mode));
-  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(input));
-  if (mode == SparsePatchInpainter::Mode::MissingVertices)
-    inpainter.setMissingVertices(missing);
-  if (mode == SparsePatchInpainter::Mode::Holes) {
-    HoleFilling filling;
-    filling.setMaxHoleDiameter(0.15);  // the scans' own openings stay open, as in the harness protocol
-    inpainter.setHoleFilling(filling);
-  }
-  inpainter.setUsePatches(patches);
-  inpainter.setDictionary(dictionary);
-  SparsePatchInpainter::Report report;
+  options.use_patches = patches;
+  options.dictionary = patches ? dictionary : nullptr;  // as the tool: no dictionary without patches
+  Report report;
   const double start = now();
-  inpainter.process(out, &report);
+  run(options, report);
   Result r;
   r.seconds = now() - start;
   r.patch_side = report.used_patches ? report.patches.patch_side : 0.0;
@@ -77,7 +68,10 @@ Result missingCase(const TriangleMesh& truth, const std::vector<int>& missing, b
   TriangleMesh damaged = truth, out;
   for (int v : missing)
     damaged.vertices[static_cast<std::size_t>(v)] = Eigen::Vector3d::Zero();
-  Result r = repair(SparsePatchInpainter::Mode::MissingVertices, damaged, missing, patches, dictionary, out);
+  Result r = timedRepair<MissingVerticesOptions, MissingVerticesReport>(
+      {}, patches, dictionary, [&](const MissingVerticesOptions& o, MissingVerticesReport& report) {
+        fillMissingVertices(damaged, missing, out, o, &report);
+      });
   r.error = 1e3 * vertexRMSE(truth, out, missing);
   return r;
 }
@@ -105,7 +99,11 @@ Result holesCase(const TriangleMesh& truth, const HoledMesh& holed, bool patches
                  const PatchDictionary::ConstPtr& dictionary)
 {
   TriangleMesh out;
-  Result r = repair(SparsePatchInpainter::Mode::Holes, holed.mesh, {}, patches, dictionary, out);
+  HoleRepairOptions options;
+  options.filling.setMaxHoleDiameter(0.15);  // the scans' own openings stay open, as in the harness protocol
+  Result r = timedRepair<HoleRepairOptions, HoleRepairReport>(
+      options, patches, dictionary,
+      [&](const HoleRepairOptions& o, HoleRepairReport& report) { fillHolesWithPatches(holed.mesh, out, o, &report); });
   const HoleFillScore score = scoreHoleFill(truth, holed, out);
   r.error = 1e3 * score.removed_to_output;
   r.second = 1e3 * score.new_to_truth;
@@ -116,7 +114,9 @@ Result denoiseCase(const TriangleMesh& truth, const TriangleMesh& noisy, bool pa
                    const PatchDictionary::ConstPtr& dictionary)
 {
   TriangleMesh out;
-  Result r = repair(SparsePatchInpainter::Mode::Denoise, noisy, {}, patches, dictionary, out);
+  Result r = timedRepair<DenoiseOptions, DenoiseReport>(
+      {}, patches, dictionary,
+      [&](const DenoiseOptions& o, DenoiseReport& report) { denoiseWithPatches(noisy, out, o, &report); });
   r.error = 1e3 * vertexRMSE(truth, out);
   return r;
 }

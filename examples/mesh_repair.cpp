@@ -1,10 +1,10 @@
 // mesh_repair — fills the holes of a triangle mesh: Liepa's fill, corrected by sparse height-map
-// patches learned from the mesh itself (SparsePatchInpainter, Holes mode).
+// patches learned from the mesh itself (fillHolesWithPatches).
 // usage: mesh_repair IN OUT [MAX_HOLE_DIAMETER]   (PLY, OBJ, OFF or STL, from the extensions;
 //        the diameter in the mesh's units, default 10 % of its bounding-box diagonal)
 #include <pcl_patchdict/geometry/hole_filling.h>
 #include <pcl_patchdict/io/mesh_io.h>
-#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
+#include <pcl_patchdict/repair/patch_repairs.h>
 #include <pcl_patchdict/core/triangle_mesh.h>
 
 #include <cstdio>
@@ -20,7 +20,6 @@ int main(int argc, char** argv)
     return 2;
   }
   try {
-    using pcl::patchdict::SparsePatchInpainter;
     pcl::patchdict::TriangleMesh mesh;
     pcl::patchdict::readMesh(argv[1], mesh);  // throws pcl::patchdict::Error with one line
 
@@ -29,15 +28,12 @@ int main(int argc, char** argv)
     const double max_diameter = argc == 4 ? std::strtod(argv[3], &end) : 0.1 * mesh.boundingBoxDiagonal();
     if (argc == 4 && (end == argv[3] || *end != '\0' || !(max_diameter > 0.0)))
       throw std::runtime_error(std::string("MAX_HOLE_DIAMETER must be a positive number, not '") + argv[3] + "'");
-    pcl::patchdict::HoleFilling holes;
-    holes.setMaxHoleDiameter(max_diameter);
+    pcl::patchdict::HoleRepairOptions options;  // the repair's measured defaults
+    options.filling.setMaxHoleDiameter(max_diameter);
 
-    SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Holes);
-    inpainter.setHoleFilling(holes);
-    inpainter.setInputMesh(std::make_shared<const pcl::patchdict::TriangleMesh>(mesh));
     pcl::patchdict::TriangleMesh repaired;
-    SparsePatchInpainter::Report report;
-    inpainter.process(repaired, &report);
+    pcl::patchdict::HoleRepairReport report;
+    pcl::patchdict::fillHolesWithPatches(mesh, repaired, options, &report);
     pcl::patchdict::writeMesh(argv[2], repaired);
 
     std::printf("holes %zu found, %zu filled, %zu skipped; %zu new vertices, %zu new faces (%s); "

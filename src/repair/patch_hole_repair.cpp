@@ -242,13 +242,11 @@ void fillHolesWithPatches(const TriangleMesh& input, TriangleMesh& out, const Ho
                           HoleRepairReport* report)
 {
   HoleRepairReport local_report;
-  HoleRepairReport& r = report ? *report : local_report;
-  r = HoleRepairReport();
+  HoleRepairReport& r = detail::freshReport(report, local_report);
+  checkHoleRepairOptions(options);
+  const UnitCubeNormalization normalization = detail::checkedNormalization(input);
   const HoleRepairOptions& p = options;
-  checkHoleRepairOptions(p);
-  detail::checkRepairInput(input);
   const std::size_t n = input.numVertices();
-  const UnitCubeNormalization normalization = detail::finiteNormalization(input);
 
   auto t = Clock::now();
   HoleFilling filling = p.filling;

@@ -61,8 +61,9 @@ std::vector<std::vector<PointToPlaneConstraint>> patchConstraints(
   return constraints;
 }
 
-UnitCubeNormalization finiteNormalization(const TriangleMesh& input)
+UnitCubeNormalization checkedNormalization(const TriangleMesh& input)
 {
+  checkRepairInput(input);
   for (std::size_t v = 0; v < input.numVertices(); ++v)
     if (!input.vertices[v].allFinite())
       throw Error("vertex " + std::to_string(v) + " has a non-finite position");
@@ -156,11 +157,10 @@ void fillMissingVertices(const TriangleMesh& input, const std::vector<int>& miss
                          const MissingVerticesOptions& options, MissingVerticesReport* report)
 {
   MissingVerticesReport local_report;
-  MissingVerticesReport& r = report ? *report : local_report;
-  r = MissingVerticesReport();
-  const MissingVerticesOptions& p = options;
-  checkMissingVerticesOptions(p);
+  MissingVerticesReport& r = detail::freshReport(report, local_report);
+  checkMissingVerticesOptions(options);
   detail::checkRepairInput(input);
+  const MissingVerticesOptions& p = options;
   const std::size_t n = input.numVertices();
   const std::vector<bool> is_missing = missingFlags(missing, n);
   r.missing_vertices = missing.size();
@@ -279,13 +279,11 @@ void denoiseWithPatches(const TriangleMesh& input, TriangleMesh& out, const Deno
                         DenoiseReport* report)
 {
   DenoiseReport local_report;
-  DenoiseReport& r = report ? *report : local_report;
-  r = DenoiseReport();
+  DenoiseReport& r = detail::freshReport(report, local_report);
+  checkDenoiseOptions(options);
+  const UnitCubeNormalization normalization = detail::checkedNormalization(input);
   const DenoiseOptions& p = options;
-  checkDenoiseOptions(p);
-  detail::checkRepairInput(input);
   const std::size_t n = input.numVertices();
-  const UnitCubeNormalization normalization = detail::finiteNormalization(input);
 
   // Base: Taubin smoothing, as many iterations as the discrepancy principle asks.
   auto t = Clock::now();

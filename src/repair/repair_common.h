@@ -1,4 +1,4 @@
-// Private helpers the repairs of patch_repairs.h (and the SparsePatchInpainter wrapper) share.
+// Private helpers the repairs of patch_repairs.h share.
 #pragma once
 
 #include <pcl_patchdict/core/normalization.h>
@@ -17,10 +17,20 @@ namespace detail {
 using Clock = std::chrono::steady_clock;
 inline double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+/** The report a repair fills: `*report` when given, else `local`; reset either way. */
+template <class Report>
+Report& freshReport(Report* report, Report& local)
+{
+  Report& r = report ? *report : local;
+  r = Report();
+  return r;
+}
+
 /** Error for an empty input, one without faces, or a face index out of range. */
 void checkRepairInput(const TriangleMesh& input);
-/** The input's unit-cube normalisation, after checking every position is finite. */
-UnitCubeNormalization finiteNormalization(const TriangleMesh& input);
+/** checkRepairInput, then the input's unit-cube normalisation after checking every position is
+  * finite. */
+UnitCubeNormalization checkedNormalization(const TriangleMesh& input);
 
 /** Runs the patch stage on `estimate` for `targets`; one constraint list per target. The data are
   * the estimate's `observed_faces` (empty: all), or `observed_surface` when given; `layout` (when

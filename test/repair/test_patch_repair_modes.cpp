@@ -1,10 +1,10 @@
-// SparsePatchInpainter's hole and denoising modes, and the noise estimate they rely on.
+// The hole and denoising repairs (patch_repairs.h), and the noise estimate they rely on.
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/geometry/hole_filling.h>
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/eval/shapes.h>
-#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
+#include <pcl_patchdict/repair/patch_repairs.h>
 
 #include "test_support.h"
 
@@ -75,13 +75,12 @@ TEST(PatchRepairModes, HolesWithoutPatchesAreLiepaBitForBit)
   filling.setInputMesh(std::make_shared<const TriangleMesh>(holed));
   TriangleMesh liepa;
   filling.process(liepa);
-  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Holes);
-  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(holed));
-  inpainter.setHoleFilling(filling);
-  inpainter.setUsePatches(false);
+  HoleRepairOptions options;
+  options.filling = filling;
+  options.use_patches = false;
   TriangleMesh out;
-  SparsePatchInpainter::Report report;
-  inpainter.process(out, &report);
+  HoleRepairReport report;
+  fillHolesWithPatches(holed, out, options, &report);
   EXPECT_EQ(report.holes.holes_filled, 1u);
   ASSERT_EQ(out.vertices.size(), liepa.vertices.size());
   EXPECT_EQ(out.faces, liepa.faces);
@@ -95,15 +94,13 @@ TEST(PatchRepairModes, SelfSimilarPatchesFillAReliefHoleBetterThanLiepa)
   // fair fill is smooth, the relief is not; a dictionary learned from the intact part copies it.
   // The defaults find that out themselves (the prediction check) and switch to the relief settings.
   const TriangleMesh holed = holedRelief(0.1);
-  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Holes);
-  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(holed));
-  inpainter.setParameters(SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes));
-  inpainter.setUsePatches(false);
+  HoleRepairOptions options;
+  options.use_patches = false;
   TriangleMesh liepa, patched;
-  inpainter.process(liepa);
-  inpainter.setUsePatches(true);
-  SparsePatchInpainter::Report report;
-  inpainter.process(patched, &report);
+  fillHolesWithPatches(holed, liepa, options);
+  options.use_patches = true;
+  HoleRepairReport report;
+  fillHolesWithPatches(holed, patched, options, &report);
   ASSERT_EQ(patched.numVertices(), liepa.numVertices());
   EXPECT_TRUE(report.relief) << report.relief_gain;
   EXPECT_GT(report.relief_gain, 1.5);
@@ -121,21 +118,19 @@ TEST(PatchRepairModes, SelfSimilarPatchesFillAReliefHoleBetterThanLiepa)
   // A quad length given by the caller is kept in the relief settings, with its patch side (the
   // paper's Fig. 8a protocol: one patch side for every hole size). Before, the relief settings
   // replaced it by 0.8 × the hole diameter.
-  SparsePatchInpainter::Parameters fixed = SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes);
+  HoleRepairOptions fixed;
   fixed.quad_length = 0.15;
   fixed.patch_scale = 1.6;
-  inpainter.setParameters(fixed);
   TriangleMesh fixed_side;
-  inpainter.process(fixed_side, &report);
+  fillHolesWithPatches(holed, fixed_side, fixed, &report);
   EXPECT_TRUE(report.relief) << report.relief_gain;
   EXPECT_DOUBLE_EQ(report.patches.quad_length, 0.15);
   EXPECT_NEAR(report.patches.patch_side, 0.24, 1e-12);
   const double fixed_error = meanReliefError(fixed_side, holed.numVertices());
   RecordProperty("fixed_side_error", std::to_string(fixed_error));
   EXPECT_LT(fixed_error, 0.7 * base) << "Liepa " << base << ", patches at side 0.24 " << fixed_error;
-  fixed.hole_settings = SparsePatchInpainter::Parameters::HoleSettings::Relief;  // no probe: as given
-  inpainter.setParameters(fixed);
-  inpainter.process(fixed_side, &report);
+  fixed.hole_settings = HoleSettings::Relief;  // no probe: as given
+  fillHolesWithPatches(holed, fixed_side, fixed, &report);
   EXPECT_TRUE(report.relief);
   EXPECT_EQ(report.relief_gain, 0.0);
   EXPECT_DOUBLE_EQ(report.patches.quad_length, 0.15);
@@ -152,15 +147,12 @@ TEST(PatchRepairModes, ASmoothSurfaceKeepsTheSmoothSettings)
     if ((sphere.vertices[f[0]] - Eigen::Vector3d(0, 0, 1)).norm() > 0.15)
       kept.push_back(f);
   sphere.faces = kept;
-  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Holes);
-  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(sphere));
-  inpainter.setParameters(SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes));
   TriangleMesh out;
-  SparsePatchInpainter::Report report;
-  inpainter.process(out, &report);
+  HoleRepairReport report;
+  fillHolesWithPatches(sphere, out, {}, &report);
   // Both predictions are nearly exact on a sphere (measured gain 35 on errors far below 0.1 edge):
   // the gain alone would say relief; the margin rule keeps the smooth settings.
-  EXPECT_GT(report.relief_gain, inpainter.getParameters().relief_gain);
+  EXPECT_GT(report.relief_gain, HoleRepairOptions().relief_gain);
   EXPECT_FALSE(report.relief) << report.relief_gain;
   double worst = 0.0;
   for (std::size_t v = sphere.numVertices(); v < out.numVertices(); ++v)
@@ -168,15 +160,13 @@ TEST(PatchRepairModes, ASmoothSurfaceKeepsTheSmoothSettings)
   EXPECT_LT(worst, 0.05 * makeIcosphere(5).meanEdgeLength());
 
   // The forced settings: Smooth skips the check, Relief takes the relief settings whatever it says.
-  SparsePatchInpainter::Parameters forced = SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes);
-  forced.hole_settings = SparsePatchInpainter::Parameters::HoleSettings::Smooth;
-  inpainter.setParameters(forced);
-  inpainter.process(out, &report);
+  HoleRepairOptions forced;
+  forced.hole_settings = HoleSettings::Smooth;
+  fillHolesWithPatches(sphere, out, forced, &report);
   EXPECT_FALSE(report.relief);
   EXPECT_EQ(report.relief_gain, 0.0);  // not run
-  forced.hole_settings = SparsePatchInpainter::Parameters::HoleSettings::Relief;
-  inpainter.setParameters(forced);
-  inpainter.process(out, &report);
+  forced.hole_settings = HoleSettings::Relief;
+  fillHolesWithPatches(sphere, out, forced, &report);
   EXPECT_TRUE(report.relief);
   EXPECT_GT(report.relief_gain, 0.0);
 }
@@ -187,11 +177,11 @@ TEST(PatchRepairModes, NoiseEstimateFindsTheNoiseOnASphere)
     TriangleMesh sphere = makeIcosphere(5);
     const double edge = sphere.meanEdgeLength();
     const TriangleMesh noisy = noisySphere(5, sigma_edges * edge, 3);
-    const double estimate = SparsePatchInpainter::estimateNoiseSigma(noisy);
+    const double estimate = estimateNoiseSigma(noisy);
     EXPECT_NEAR(estimate / (sigma_edges * edge), 1.0, 0.2) << sigma_edges;
   }
   // A clean sphere: the curvature bias alone, far below either level.
-  EXPECT_LT(SparsePatchInpainter::estimateNoiseSigma(makeIcosphere(5)), 0.05 * makeIcosphere(5).meanEdgeLength());
+  EXPECT_LT(estimateNoiseSigma(makeIcosphere(5)), 0.05 * makeIcosphere(5).meanEdgeLength());
 }
 
 TEST(PatchRepairModes, DenoisingBaseRemovesMostOfTheNoiseAndKeepsTheMesh)
@@ -199,12 +189,11 @@ TEST(PatchRepairModes, DenoisingBaseRemovesMostOfTheNoiseAndKeepsTheMesh)
   const TriangleMesh clean = makeIcosphere(5);
   const double sigma = 0.5 * clean.meanEdgeLength();
   const TriangleMesh noisy = noisySphere(5, sigma, 5);
-  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Denoise);
-  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(noisy));
-  inpainter.setUsePatches(false);
+  DenoiseOptions options;
+  options.use_patches = false;
   TriangleMesh out;
-  SparsePatchInpainter::Report report;
-  inpainter.process(out, &report);
+  DenoiseReport report;
+  denoiseWithPatches(noisy, out, options, &report);
   EXPECT_TRUE(report.noise_estimated);
   EXPECT_GT(report.base_iterations, 0);
   EXPECT_EQ(out.faces, noisy.faces);
@@ -218,13 +207,12 @@ TEST(PatchRepairModes, DenoisingBaseRemovesMostOfTheNoiseAndKeepsTheMesh)
 TEST(PatchRepairModes, DenoisingWithPatchesIsDeterministicAndStaysNearTheSurface)
 {
   const TriangleMesh noisy = noisySphere(4, 0.5 * makeIcosphere(4).meanEdgeLength(), 7);
-  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Denoise);
-  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(noisy));
+  DenoiseOptions options;
   TriangleMesh first, second;
-  SparsePatchInpainter::Report report;
-  inpainter.process(first, &report);
-  inpainter.setNumberOfThreads(1);
-  inpainter.process(second);
+  DenoiseReport report;
+  denoiseWithPatches(noisy, first, options, &report);
+  options.num_threads = 1;
+  denoiseWithPatches(noisy, second, options);
   EXPECT_TRUE(report.used_patches);
   EXPECT_GT(report.patches.constrained_vertices, noisy.numVertices() * 9 / 10);
   ASSERT_EQ(first.numVertices(), second.numVertices());
@@ -234,44 +222,43 @@ TEST(PatchRepairModes, DenoisingWithPatchesIsDeterministicAndStaysNearTheSurface
   // Against its own base (Taubin alone): a self-similar dictionary of a noisy sphere has nothing
   // clean to copy, and costs accuracy — why the CLI uses patches only when asked. Bounded, so a
   // patch stage that went astray would show.
-  inpainter.setUsePatches(false);
+  options.use_patches = false;
   TriangleMesh base;
-  inpainter.process(base);
+  denoiseWithPatches(noisy, base, options);
   RecordProperty("patches_over_base", std::to_string(sphereRmse(first) / sphereRmse(base)));
   EXPECT_LT(sphereRmse(first), 2.0 * sphereRmse(base));
 }
 
 TEST(PatchRepairModes, BadParametersAndInputsAreErrors)
 {
-  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Denoise);
   TriangleMesh out;
-  EXPECT_THROW(inpainter.process(out), Error);  // no input
+  EXPECT_THROW(denoiseWithPatches(TriangleMesh(), out), Error);  // no input
   TriangleMesh cloud = makeIcosphere(2);
   cloud.faces.clear();
-  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(cloud));
-  EXPECT_THROW(inpainter.process(out), Error);  // no faces
+  EXPECT_THROW(denoiseWithPatches(cloud, out), Error);  // no faces
   TriangleMesh bad = makeIcosphere(2);
   bad.vertices[3].x() = std::nan("");
-  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(bad));
-  EXPECT_THROW(inpainter.process(out), Error);
+  EXPECT_THROW(denoiseWithPatches(bad, out), Error);
   const TriangleMesh sphere = makeIcosphere(2);
-  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(sphere));
-  inpainter.setUsePatches(false);  // the Taubin base alone: a good parameter set must run (checked last)
-  // Each a bad value of one parameter; a NaN discrepancy factor, for one, would otherwise run the
-  // maximum iteration count silently.
-  const std::vector<std::function<void(SparsePatchInpainter::Parameters&)>> bad_values = {
+  // Each a bad value of one option; a NaN discrepancy factor, for one, would otherwise run the
+  // maximum iteration count silently. The Taubin base alone: a good option set must run.
+  const std::vector<std::function<void(DenoiseOptions&)>> bad_values = {
       [](auto& p) { p.fidelity = 0.0; },          [](auto& p) { p.error_factor = -1.0; },
       [](auto& p) { p.discrepancy = std::nan(""); }, [](auto& p) { p.base_iterations = -2; },
-      [](auto& p) { p.relief_probe_radius = 0.0; }};
+      [](auto& p) { p.grid_size = 1; }};
   for (std::size_t i = 0; i < bad_values.size(); ++i) {
-    SparsePatchInpainter::Parameters parameters;
-    bad_values[i](parameters);
-    inpainter.setParameters(parameters);
-    EXPECT_THROW(inpainter.process(out), Error) << "case " << i;
+    DenoiseOptions options;
+    options.use_patches = false;
+    bad_values[i](options);
+    EXPECT_THROW(denoiseWithPatches(sphere, out, options), Error) << "case " << i;
   }
-  inpainter.setParameters(SparsePatchInpainter::Parameters());
+  HoleRepairOptions holes;
+  holes.relief_probe_radius = 0.0;
+  EXPECT_THROW(fillHolesWithPatches(sphere, out, holes), Error);
+  DenoiseOptions good;
+  good.use_patches = false;
   try {
-    inpainter.process(out);  // the same inpainter with good values runs
+    denoiseWithPatches(sphere, out, good);  // good values run
   } catch (const Error& e) {
     ADD_FAILURE() << e.what();
   }

@@ -1,6 +1,6 @@
-// The three repair entry points (patch_repairs.h): their defaults, their agreement with the
-// SparsePatchInpainter wrapper, and the ownership rule — a class that keeps an input shares it,
-// so an input passed as a temporary cannot dangle.
+// The three repair entry points (patch_repairs.h): their defaults, their results at one and two
+// threads, and the ownership rule — a class that keeps an input shares it, so an input passed as a
+// temporary cannot dangle.
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/eval/shapes.h>
 #include <pcl_patchdict/geometry/coarse_mesh_estimation.h>
@@ -11,7 +11,6 @@
 #include <pcl_patchdict/quads/quad_remesher.h>
 #include <pcl_patchdict/repair/patch_correction.h>
 #include <pcl_patchdict/repair/patch_repairs.h>
-#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
 
 #include <gtest/gtest.h>
 
@@ -43,7 +42,6 @@ static_assert(sharesItsInputMesh<HoleFilling>(), "HoleFilling must share its inp
 static_assert(sharesItsInputMesh<QuadRemesher>(), "QuadRemesher must share its input");
 static_assert(sharesItsInputMesh<CoarseMeshEstimation>(), "CoarseMeshEstimation must share its input");
 static_assert(sharesItsInputMesh<HeightMapPatchExtractor>(), "HeightMapPatchExtractor must share its input");
-static_assert(sharesItsInputMesh<SparsePatchInpainter>(), "SparsePatchInpainter must share its input");
 static_assert(!std::is_invocable_v<decltype(&QuadFrameEstimation::setInputQuadMesh), QuadFrameEstimation&, QuadMesh>,
               "QuadFrameEstimation must share its input");
 static_assert(!std::is_invocable_v<decltype(&PatchCorrection::setEstimate), PatchCorrection&, TriangleMesh>,
@@ -51,7 +49,6 @@ static_assert(!std::is_invocable_v<decltype(&PatchCorrection::setEstimate), Patc
 static_assert(!std::is_invocable_v<decltype(&PatchMeshReconstruction::setTargetMesh), PatchMeshReconstruction&,
                                    TriangleMesh>,
               "PatchMeshReconstruction must share its target");
-static_assert(!std::is_default_constructible_v<SparsePatchInpainter>, "the wrapper's mode is fixed at construction");
 
 /** An icosphere with the faces around one pole removed. */
 TriangleMesh holedSphere()
@@ -113,11 +110,10 @@ TEST(PatchRepairs, TemporaryInputsAreKeptAliveNotDangling)
   remesher.process(quads);
   EXPECT_GT(quads.faces.size(), 6u);
 
-  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Holes);
-  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(holedSphere()));
-  inpainter.setUsePatches(false);
+  HoleRepairOptions liepa_only;  // the repair's base is the same filling
+  liepa_only.use_patches = false;
   TriangleMesh c;
-  inpainter.process(c);
+  fillHolesWithPatches(holedSphere(), c, liepa_only);
   expectSameMesh(a, c);
 }
 
@@ -135,62 +131,45 @@ TEST(PatchRepairs, EachRepairsOptionsStartAtItsOwnDefaults)
   EXPECT_EQ(denoise.sparsity, 20);
   EXPECT_EQ(holes.quad_length_factor, shared.quad_length_factor);
   EXPECT_EQ(denoise.fit_scale, shared.fit_scale);
-  // The wrapper's defaults are the options' (one source of truth).
-  const auto hole_parameters = SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes);
-  EXPECT_EQ(hole_parameters.constraint_weight, holes.constraint_weight);
-  EXPECT_EQ(hole_parameters.fit_scale, holes.fit_scale);
-  const auto denoise_parameters = SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Denoise);
-  EXPECT_EQ(denoise_parameters.quad_length_factor, denoise.quad_length_factor);
-  EXPECT_EQ(denoise_parameters.sparsity, denoise.sparsity);
-  SparsePatchInpainter wrapper(SparsePatchInpainter::Mode::Denoise);
-  EXPECT_EQ(wrapper.getParameters().sparsity, 20);  // no setParameters(defaultParameters(…)) needed
 }
 
-TEST(PatchRepairs, FunctionsAndWrapperAgreeBitForBit)
+TEST(PatchRepairs, EachRepairGivesTheSameMeshAtOneAndTwoThreads)
 {
+  TriangleMesh one, two;
   const TriangleMesh truth = makeIcosphere(3);
   std::vector<int> missing;
   for (int v = 0; v < static_cast<int>(truth.numVertices()); v += 7)
     missing.push_back(v);
   MissingVerticesOptions missing_options;
-  missing_options.num_threads = 1;
-  TriangleMesh by_function;
   MissingVerticesReport missing_report;
-  fillMissingVertices(truth, missing, by_function, missing_options, &missing_report);
+  missing_options.num_threads = 1;
+  fillMissingVertices(truth, missing, one, missing_options, &missing_report);
   EXPECT_TRUE(missing_report.used_patches);
-  SparsePatchInpainter missing_wrapper(SparsePatchInpainter::Mode::MissingVertices);
-  missing_wrapper.setInputMesh(std::make_shared<const TriangleMesh>(truth));
-  missing_wrapper.setMissingVertices(missing);
-  missing_wrapper.setNumberOfThreads(1);
-  TriangleMesh by_wrapper;
-  missing_wrapper.process(by_wrapper);
-  expectSameMesh(by_function, by_wrapper);
+  missing_options.num_threads = 2;
+  fillMissingVertices(truth, missing, two, missing_options);
+  expectSameMesh(one, two);
 
   const TriangleMesh holed = holedSphere();
   HoleRepairOptions hole_options;
-  hole_options.num_threads = 1;
   HoleRepairReport hole_report;
-  fillHolesWithPatches(holed, by_function, hole_options, &hole_report);
+  hole_options.num_threads = 1;
+  fillHolesWithPatches(holed, one, hole_options, &hole_report);
   EXPECT_TRUE(hole_report.used_patches);
   EXPECT_EQ(hole_report.holes.holes_filled, 1u);
-  SparsePatchInpainter hole_wrapper(SparsePatchInpainter::Mode::Holes);
-  hole_wrapper.setInputMesh(std::make_shared<const TriangleMesh>(holed));
-  hole_wrapper.setNumberOfThreads(1);
-  hole_wrapper.process(by_wrapper);
-  expectSameMesh(by_function, by_wrapper);
+  hole_options.num_threads = 2;
+  fillHolesWithPatches(holed, two, hole_options);
+  expectSameMesh(one, two);
 
   const TriangleMesh noisy = noisySphere(0.01, 3);
   DenoiseOptions denoise_options;
-  denoise_options.num_threads = 1;
   DenoiseReport denoise_report;
-  denoiseWithPatches(noisy, by_function, denoise_options, &denoise_report);
+  denoise_options.num_threads = 1;
+  denoiseWithPatches(noisy, one, denoise_options, &denoise_report);
   EXPECT_TRUE(denoise_report.noise_estimated);
   EXPECT_GT(denoise_report.base_iterations, 0);
-  SparsePatchInpainter denoise_wrapper(SparsePatchInpainter::Mode::Denoise);
-  denoise_wrapper.setInputMesh(std::make_shared<const TriangleMesh>(noisy));
-  denoise_wrapper.setNumberOfThreads(1);
-  denoise_wrapper.process(by_wrapper);
-  expectSameMesh(by_function, by_wrapper);
+  denoise_options.num_threads = 2;
+  denoiseWithPatches(noisy, two, denoise_options);
+  expectSameMesh(one, two);
 }
 
 TEST(PatchRepairs, EachRepairChecksItsOwnOptions)

@@ -1,6 +1,6 @@
 // Least-squares bi-Laplacian interpolation of free vertices (Sorkine & Cohen-Or, "Least-squares
 // meshes", SMI 2004, with the uniform Laplacian), optionally with soft point-to-plane constraints
-// that couple the three coordinates: the linear core of SparsePatchInpainter.
+// that couple the three coordinates: the linear core of the mesh repairs (patch_repairs.h).
 #pragma once
 
 #include <pcl_patchdict/core/triangle_mesh.h>

@@ -22,10 +22,9 @@ struct PatchPredictionCheck {
   * masked OMP over `dictionary` — or, if null, over a self-similar dictionary learned
   * (PatchCorrection::learnSelfSimilar) from the other half of the patches — and (b) by the
   * biharmonic fill of the grid (min Σ (Δh)² with the visible bins fixed: the patch-domain analogue of
-  * Liepa's fairing). Measured as SparsePatchInpainter's relief check (bench/hole_size_sweep, hole
-  * radii 0.01–0.07): boot 0.77–0.91, demosthenes 0.72–0.88; sole 1.49–2.76, knurl 2.50–5.93, tiles
-  * 2.65–7.51. Fewer than `min_test_patches`
-  * usable test patches, or a disc covering no bin or every bin, gives gain 0. */
+  * Liepa's fairing); the hole repair's relief check (its gains on smooth and relief scans:
+  * docs/results.md). Fewer than `min_test_patches` usable test patches, or a disc covering no bin
+  * or every bin, gives gain 0. */
 PatchPredictionCheck checkPatchPrediction(const PatchSet& patches, double hidden_radius,
                                           const PatchDictionary::ConstPtr& dictionary,
                                           const PatchCorrectionParameters& parameters,

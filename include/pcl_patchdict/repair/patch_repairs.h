@@ -60,13 +60,13 @@ void fillMissingVertices(const TriangleMesh& input, const std::vector<int>& miss
 /** Holes: which settings (see HoleRepairOptions::hole_settings). */
 enum class HoleSettings { Auto, Smooth, Relief };
 
-/** Options of the hole repair: μ 0.1, fit_scale 0.02, measured (docs/results.md, "Figures behind
-  * the library's defaults"; a larger μ was worse). */
+/** Options of the hole repair: μ 0.1, fit_scale 0.02, chosen by measurement (docs/results.md,
+  * "Figures behind the library's defaults"). */
 struct HoleRepairOptions : PatchRepairCommon {
   HoleRepairOptions() { fit_scale = 0.02; }
   double constraint_weight = 0.1;  ///< μ of the displacement solve (smooth settings)
   /// L ≥ this × median diameter of the filled holes (normalised units).
-  double hole_quad_factor = 0.6;  ///< (larger sides lost to Liepa on the relief test)
+  double hole_quad_factor = 0.6;  ///< (why this value: docs/results.md)
   /// Auto measures with checkPatchPrediction whether the dictionary predicts a hidden disc
   /// (relief_probe_radius × the median hole diameter d, at most 0.3 × the patch side) better than
   /// a biharmonic fill, for patch sides relief_probe_factors × d on one layout; gain ≥ relief_gain
@@ -80,7 +80,7 @@ struct HoleRepairOptions : PatchRepairCommon {
   /// The verdict probe on the smooth settings' layout uses at most this many of its seeds, evenly
   /// spaced (0: all); a relief verdict is followed by a full probe that picks the patch side.
   int relief_probe_max_seeds = 600;
-  double relief_gain = 1.3;  ///< (1.5 missed the sole at radius 0.05: gain 1.49)
+  double relief_gain = 1.3;  ///< (why this value: docs/results.md)
   /// …and only if the dictionary's error is below the biharmonic one by this × mean edge.
   double relief_min_improvement = 0.1;
   /// Relief settings: μ 10, overlap 2, no fit or agreement weighting.

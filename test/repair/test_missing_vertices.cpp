@@ -1,9 +1,9 @@
-// SparsePatchInpainter (missing vertices) and its least-squares bi-Laplacian core.
+// The missing-vertex repair (fillMissingVertices) and its least-squares bi-Laplacian core.
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/repair/patch_constrained_solve.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
 #include <pcl_patchdict/eval/shapes.h>
-#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
+#include <pcl_patchdict/repair/patch_repairs.h>
 
 #include <gtest/gtest.h>
 
@@ -44,7 +44,7 @@ double rmse(const TriangleMesh& a, const TriangleMesh& b, const std::vector<int>
 
 }  // namespace
 
-TEST(SparsePatchInpainter, BiLaplacianReproducesALinearFieldExactly)
+TEST(MissingVertices, BiLaplacianReproducesALinearFieldExactly)
 {
   // A tilted plane on a regular grid: L x = 0 on every interior row, so the least-squares
   // bi-Laplacian has zero energy at the truth and (being strictly convex) returns it.
@@ -62,13 +62,11 @@ TEST(SparsePatchInpainter, BiLaplacianReproducesALinearFieldExactly)
   for (int v : missing)
     damaged.vertices[static_cast<std::size_t>(v)] = Eigen::Vector3d(5.0, -3.0, 9.0);  // must be ignored
 
-  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::MissingVertices);
-  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(damaged));
-  inpainter.setMissingVertices(missing);
-  inpainter.setUsePatches(false);
+  MissingVerticesOptions options;
+  options.use_patches = false;
   TriangleMesh out;
-  SparsePatchInpainter::Report report;
-  inpainter.process(out, &report);
+  MissingVerticesReport report;
+  fillMissingVertices(damaged, missing, out, options, &report);
   ASSERT_EQ(out.numVertices(), truth.numVertices());
   EXPECT_EQ(out.faces, truth.faces);
   EXPECT_EQ(report.missing_vertices, missing.size());
@@ -86,7 +84,7 @@ TEST(SparsePatchInpainter, BiLaplacianReproducesALinearFieldExactly)
     }
 }
 
-TEST(SparsePatchInpainter, SolverWithStiffConstraintsMovesOnlyAlongTheirNormals)
+TEST(MissingVertices, SolverWithStiffConstraintsMovesOnlyAlongTheirNormals)
 {
   // Constraints along z on a flat grid: x and y stay the bi-Laplacian's, z goes to the plane asked.
   TriangleMesh grid = makePlaneGrid(10, 10);
@@ -109,14 +107,14 @@ TEST(SparsePatchInpainter, SolverWithStiffConstraintsMovesOnlyAlongTheirNormals)
   EXPECT_NEAR(constrained[static_cast<std::size_t>(centre)].y(), plain[static_cast<std::size_t>(centre)].y(), 1e-14);
 }
 
-TEST(SparsePatchInpainter, PatchesBeatTheBiLaplacianOnASinusoidalRelief)
+TEST(MissingVertices, PatchesBeatTheBiLaplacianOnASinusoidalRelief)
 {
   // Relief of amplitude 0.04 and period 0.2 on a 64×64 grid; 20 % of the vertices missing (away
   // from the border, where the uniform Laplacian's inward pull dominates any normal correction);
   // a local dictionary from an intact copy (the paper's Table 2 setting).
   const double amplitude = 0.04, period = 0.2;
   const TriangleMesh truth = makeSinusoidalRelief(64, 64, amplitude, period);
-  SparsePatchInpainter::Parameters parameters;
+  MissingVerticesOptions parameters;
   parameters.constraint_weight = 1.0;
   const PatchSet training = PatchCorrection::trainingPatches(truth, parameters, 16);
   ASSERT_GT(training.numPatches(), 200u);
@@ -129,17 +127,14 @@ TEST(SparsePatchInpainter, PatchesBeatTheBiLaplacianOnASinusoidalRelief)
     const int i = v % 65, j = v / 65;
     return i >= 2 && j >= 2 && i <= 62 && j <= 62;
   });
-  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::MissingVertices);
-  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(truth));  // the missing vertices' input positions are ignored
-  inpainter.setMissingVertices(missing);
-  inpainter.setParameters(parameters);
-  inpainter.setUsePatches(false);
+  // The input is the truth: the missing vertices' input positions are ignored.
+  parameters.use_patches = false;
   TriangleMesh bilaplacian, patched;
-  inpainter.process(bilaplacian);
-  inpainter.setUsePatches(true);
-  inpainter.setDictionary(dictionary);
-  SparsePatchInpainter::Report report;
-  inpainter.process(patched, &report);
+  fillMissingVertices(truth, missing, bilaplacian, parameters);
+  parameters.use_patches = true;
+  parameters.dictionary = dictionary;
+  MissingVerticesReport report;
+  fillMissingVertices(truth, missing, patched, parameters, &report);
   EXPECT_TRUE(report.used_patches);
   EXPECT_GT(report.patches.constrained_vertices, missing.size() * 9 / 10);
   const double base = rmse(bilaplacian, truth, missing), ours = rmse(patched, truth, missing);
@@ -148,37 +143,28 @@ TEST(SparsePatchInpainter, PatchesBeatTheBiLaplacianOnASinusoidalRelief)
   EXPECT_LT(ours, kPatchMargin * base) << "bi-Laplacian " << base << ", patches " << ours;
 }
 
-TEST(SparsePatchInpainter, BadInputIsAnError)
+TEST(MissingVertices, BadInputIsAnError)
 {
   const TriangleMesh mesh = makePlaneGrid(8, 8);
-  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::MissingVertices);
-  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
-  inpainter.setUsePatches(false);
+  MissingVerticesOptions options;
+  options.use_patches = false;
   TriangleMesh out;
-  inpainter.setMissingVertices({3, static_cast<int>(mesh.numVertices())});
-  EXPECT_THROW(inpainter.process(out), Error);
-  inpainter.setMissingVertices({-1});
-  EXPECT_THROW(inpainter.process(out), Error);
-  inpainter.setMissingVertices({4, 4});
-  EXPECT_THROW(inpainter.process(out), Error);
-  inpainter.setMissingVertices({});
-  EXPECT_THROW(inpainter.process(out), Error);
+  EXPECT_THROW(fillMissingVertices(mesh, {3, static_cast<int>(mesh.numVertices())}, out, options), Error);
+  EXPECT_THROW(fillMissingVertices(mesh, {-1}, out, options), Error);
+  EXPECT_THROW(fillMissingVertices(mesh, {4, 4}, out, options), Error);
+  EXPECT_THROW(fillMissingVertices(mesh, {}, out, options), Error);
   std::vector<int> all(mesh.numVertices());
   for (std::size_t v = 0; v < all.size(); ++v)
     all[v] = static_cast<int>(v);
-  inpainter.setMissingVertices(all);
-  EXPECT_THROW(inpainter.process(out), Error);
+  EXPECT_THROW(fillMissingVertices(mesh, all, out, options), Error);
 
   // A dictionary of 8×8 atoms where 16×16 patches are asked for.
   auto dictionary = std::make_shared<PatchDictionary>();
   dictionary->setAtoms(Eigen::MatrixXd::Identity(64, 64));
-  SparsePatchInpainter::Parameters parameters;
-  parameters.grid_size = 16;
-  inpainter.setParameters(parameters);
-  inpainter.setDictionary(dictionary);
-  inpainter.setUsePatches(true);
-  inpainter.setMissingVertices({30});
-  EXPECT_THROW(inpainter.process(out), Error);
+  MissingVerticesOptions sixteen;
+  sixteen.grid_size = 16;
+  sixteen.dictionary = dictionary;
+  EXPECT_THROW(fillMissingVertices(mesh, {30}, out, sixteen), Error);
 
   // A connected part with every vertex missing (a second, separate grid).
   TriangleMesh two = mesh;
@@ -191,9 +177,5 @@ TEST(SparsePatchInpainter, BadInputIsAnError)
   std::vector<int> second;
   for (std::size_t v = 0; v < other.numVertices(); ++v)
     second.push_back(offset + static_cast<int>(v));
-  SparsePatchInpainter separate(SparsePatchInpainter::Mode::MissingVertices);
-  separate.setInputMesh(std::make_shared<const TriangleMesh>(two));
-  separate.setUsePatches(false);
-  separate.setMissingVertices(second);
-  EXPECT_THROW(separate.process(out), Error);
+  EXPECT_THROW(fillMissingVertices(two, second, out, options), Error);
 }
