@@ -121,7 +121,7 @@ RGBImage withColourBar(const RGBImage& image, const std::string& caption, const 
   const int scale = std::max(1, std::min(2, image.width / 400)), text_height = 7 * scale, bar_height = 3 * scale + 10;
   const int margin = 12, spacing = 4 * scale;
   const int bar_width = std::clamp(image.width / 4, 60, 400);
-  const int total = textWidth(caption, scale) + spacing + textWidth("0", scale) + spacing + bar_width + spacing +
+  const int total = textWidth(caption, scale) + 3 * spacing + textWidth("0", scale) + spacing + bar_width + spacing +
                     textWidth(high_label, scale);
   RGBImage out = blankImage(image.width, image.height + bar_height + 2 * margin);
   paste(out, image, 0, 0);
@@ -129,7 +129,7 @@ RGBImage withColourBar(const RGBImage& image, const std::string& caption, const 
   const int top = image.height + margin, text_top = top + (bar_height - text_height) / 2;
   const RGBColour ink{30, 30, 30};
   drawText(out, x, text_top, caption, scale, ink);
-  x += textWidth(caption, scale) + spacing;
+  x += textWidth(caption, scale) + 3 * spacing;
   drawText(out, x, text_top, "0", scale, ink);
   x += textWidth("0", scale) + spacing;
   for (int column = 0; column < bar_width; ++column) {
