@@ -20,7 +20,7 @@ namespace {
 
 using Colour = RGBColour;
 
-const Colour kGrey{205, 205, 205}, kFill{240, 160, 80};
+const Colour kGrey{205, 205, 205}, kFill{250, 185, 120};
 
 std::vector<std::vector<std::int32_t>> polygons(const TriangleMesh& mesh)
 {

@@ -35,7 +35,7 @@ struct Shader {
   Eigen::Vector3d light, half;
   double ambient, specular;
 
-  Shader(const RenderOptions& options)
+  explicit Shader(const RenderOptions& options)
       : light(options.light.normalized()), half((light + Eigen::Vector3d::UnitZ()).normalized()),
         ambient(options.ambient), specular(options.specular)
   {
