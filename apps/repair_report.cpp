@@ -22,15 +22,6 @@ using Colour = RGBColour;
 
 const Colour kGrey{205, 205, 205}, kFill{250, 185, 120};
 
-std::vector<std::vector<std::int32_t>> polygons(const TriangleMesh& mesh)
-{
-  std::vector<std::vector<std::int32_t>> faces;
-  faces.reserve(mesh.numFaces());
-  for (const Face& f : mesh.faces)
-    faces.push_back({f[0], f[1], f[2]});
-  return faces;
-}
-
 /** Binary little-endian PLY with float32 positions and uchar colours per vertex. */
 void writeColouredPly(const std::string& path, const TriangleMesh& mesh, const std::vector<Colour>& colours)
 {
@@ -68,7 +59,7 @@ void writeFillPicture(const std::string& path, const TriangleMesh& mesh, std::si
     colours[f] = kFill;
   RenderOptions options;
   options.width = options.height = pixels;
-  writePolygonsPNG(path, mesh.vertices, polygons(mesh), colours, options);
+  writePolygonsPNG(path, mesh.vertices, polygonsOf(mesh), colours, options);
 }
 
 JsonObject writeRepairReport(const std::string& dir, const TriangleMesh& before, const TriangleMesh& after,

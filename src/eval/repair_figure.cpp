@@ -14,15 +14,6 @@ namespace patchdict {
 
 namespace {
 
-std::vector<std::vector<std::int32_t>> allFaces(const TriangleMesh& mesh)
-{
-  std::vector<std::vector<std::int32_t>> faces;
-  faces.reserve(mesh.numFaces());
-  for (const Face& f : mesh.faces)
-    faces.push_back({f[0], f[1], f[2]});
-  return faces;
-}
-
 /** Union-find root with path halving. */
 std::int32_t root(std::vector<std::int32_t>& parent, std::int32_t v)
 {
@@ -82,6 +73,15 @@ RGBImage render(const TriangleMesh& mesh, const std::vector<std::vector<std::int
 }
 
 }  // namespace
+
+std::vector<std::vector<std::int32_t>> polygonsOf(const TriangleMesh& mesh)
+{
+  std::vector<std::vector<std::int32_t>> faces;
+  faces.reserve(mesh.numFaces());
+  for (const Face& f : mesh.faces)
+    faces.push_back({f[0], f[1], f[2]});
+  return faces;
+}
 
 std::string errorScaleLabel(double scale)
 {
@@ -208,7 +208,7 @@ RGBImage errorPicture(const TriangleMesh& mesh, const std::vector<double>& dista
     throw Error("figure: one distance per vertex expected");
   RenderOptions options;
   options.width = options.height = pixels;
-  const RGBImage picture = render(mesh, allFaces(mesh), errorColours(distances, scale), options);
+  const RGBImage picture = render(mesh, polygonsOf(mesh), errorColours(distances, scale), options);
   return withColourBar(picture, "distance to the reference", errorScaleLabel(scale));
 }
 

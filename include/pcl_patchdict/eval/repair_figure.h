@@ -12,6 +12,9 @@
 namespace pcl {
 namespace patchdict {
 
+/** The mesh's triangles as renderPolygons takes them. */
+std::vector<std::vector<std::int32_t>> polygonsOf(const TriangleMesh& mesh);
+
 /** A close-up: a window of `radius` around `centre`, looked at along `view_direction`. */
 struct CloseUpWindow {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
