@@ -98,7 +98,9 @@ int runQuads(const std::vector<std::string>& raw)
       colours.push_back(face.size() == 4   ? std::array<std::uint8_t, 3>{170, 200, 235}
                         : face.size() == 3 ? std::array<std::uint8_t, 3>{245, 170, 80}
                                            : std::array<std::uint8_t, 3>{230, 60, 60});
-    writePolygonsPNG(args.get("png"), quads.vertices, quads.faces, colours);
+    RenderOptions options;
+    options.draw_edges = true;  // the layout is the picture's point
+    writePolygonsPNG(args.get("png"), quads.vertices, quads.faces, colours, options);
   }
   timer.stop();
 

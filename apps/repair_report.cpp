@@ -1,9 +1,11 @@
-// Repair reports (see repair_report.h): pictures by the software renderer (mesh_render.h: no
-// display or GPU needed, so it works on a headless machine), a coloured PLY written here.
+// Repair reports (see repair_report.h): shaded pictures by the software renderer (mesh_render.h,
+// repair_figure.h: no display or GPU needed, so it works on a headless machine), a coloured PLY
+// written here.
 #include "repair_report.h"
 
 #include <pcl_patchdict/io/atomic_file.h>
 #include <pcl_patchdict/eval/mesh_render.h>
+#include <pcl_patchdict/eval/repair_figure.h>
 #include <pcl_patchdict/geometry/metrics.h>
 
 #include <algorithm>
@@ -16,32 +18,9 @@ namespace cli {
 
 namespace {
 
-using Colour = std::array<std::uint8_t, 3>;
+using Colour = RGBColour;
 
-/** Blue (0) → white (½) → red (1). */
-Colour errorColour(double t)
-{
-  t = std::clamp(t, 0.0, 1.0);
-  const auto channel = [](double value) { return static_cast<std::uint8_t>(std::lround(255.0 * value)); };
-  if (t < 0.5)
-    return {channel(2.0 * t), channel(2.0 * t), 255};
-  return {255, channel(2.0 - 2.0 * t), channel(2.0 - 2.0 * t)};
-}
-
-const Colour kGrey{200, 200, 200}, kFill{235, 140, 40};
-
-void render(const std::string& path, const TriangleMesh& mesh, const std::vector<Colour>& face_colours,
-            int pixels = 800)
-{
-  std::vector<std::vector<std::int32_t>> faces;
-  faces.reserve(mesh.numFaces());
-  for (const Face& f : mesh.faces)
-    faces.push_back({f[0], f[1], f[2]});
-  RenderOptions options;
-  options.width = options.height = pixels;
-  options.draw_edges = mesh.numFaces() < 20000;
-  writePolygonsPNG(path, mesh.vertices, faces, face_colours, options);
-}
+const Colour kGrey{205, 205, 205}, kFill{250, 185, 120};
 
 /** Binary little-endian PLY with float32 positions and uchar colours per vertex. */
 void writeColouredPly(const std::string& path, const TriangleMesh& mesh, const std::vector<Colour>& colours)
@@ -78,7 +57,9 @@ void writeFillPicture(const std::string& path, const TriangleMesh& mesh, std::si
   std::vector<Colour> colours(mesh.numFaces(), kGrey);
   for (std::size_t f = std::min(first_new_face, mesh.numFaces()); f < mesh.numFaces(); ++f)
     colours[f] = kFill;
-  render(path, mesh, colours, pixels);
+  RenderOptions options;
+  options.width = options.height = pixels;
+  writePolygonsPNG(path, mesh.vertices, polygonsOf(mesh), colours, options);
 }
 
 JsonObject writeRepairReport(const std::string& dir, const TriangleMesh& before, const TriangleMesh& after,
@@ -107,15 +88,15 @@ JsonObject writeRepairReport(const std::string& dir, const TriangleMesh& before,
     sum += distances[v];
   }
   writeColouredPly(file("error.ply"), after, vertex_colours);
-  std::vector<Colour> face_colours(after.numFaces());
-  for (std::size_t f = 0; f < after.numFaces(); ++f) {
-    double mean = 0.0;
-    for (std::int32_t v : after.faces[f])
-      mean += distances[static_cast<std::size_t>(v)];
-    face_colours[f] = errorColour(top > 0.0 ? mean / 3.0 / top : 0.0);
-  }
-  render(file("error.png"), after, face_colours);
+  writeImagePNG(file("error.png"), errorPicture(after, distances, top, 800));
   json.add("error_ply", file("error.ply")).add("error_png", file("error.png"));
+  // A close-up of the largest filled region beside the reference, when the repair added faces.
+  CloseUpWindow window;
+  if (windowAroundNewFaces(after, first_new_face, window)) {
+    writeImagePNG(file("closeup.png"), comparisonFigure(*reference, {"input", &before}, {{"output", &after}},
+                                                        window, top, 400));
+    json.add("closeup_png", file("closeup.png"));
+  }
   json.add("error_scale", top).add("mean_vertex_distance", distances.empty() ? 0.0 : sum / distances.size());
   return json;
 }

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <numeric>
 
 #include <cmath>
@@ -319,6 +320,7 @@ TEST(PatchRepairModes, ReportWritesPicturesAndAnErrorColouredMesh)
   ASSERT_EQ(result.exit_code, 0) << result.err;
   for (const char* name : {"before.png", "after.png", "error.png", "error.ply"})
     EXPECT_GT(std::filesystem::file_size(dir.file(std::string("report/") + name)), 100u) << name;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("report/closeup.png")));  // denoising adds no faces
   // The coloured PLY is a mesh of the output's size whose mean distance the JSON reports.
   TriangleMesh coloured;
   readMesh(dir.file("report/error.ply"), coloured);
@@ -355,4 +357,15 @@ TEST(PatchRepairModes, ReportWritesPicturesAndAnErrorColouredMesh)
                                  test_support::q(dir.file("report5")));
   EXPECT_EQ(result.exit_code, 2);
   EXPECT_FALSE(std::filesystem::exists(dir.file("report5")));
+  // A fill adds faces: the report frames the largest filled region beside the reference.
+  TriangleMesh holed = clean;
+  holed.faces.erase(std::remove_if(holed.faces.begin(), holed.faces.end(),
+                                   [](const Face& f) { return f[0] == 0 || f[1] == 0 || f[2] == 0; }),
+                    holed.faces.end());  // the one-ring of vertex 0: one hole
+  writeMesh(dir.file("holed.ply"), holed);
+  result = test_support::runTool("fill-holes " + test_support::q(dir.file("holed.ply")) + " -o " +
+                                 test_support::q(dir.file("filled.ply")) + " --no-patches --quiet --report " +
+                                 test_support::q(dir.file("report6")) + " --ref " + test_support::q(dir.file("clean.ply")));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_GT(std::filesystem::file_size(dir.file("report6/closeup.png")), 100u);
 }
