@@ -1,5 +1,5 @@
 // repair_tables: the repair tables of the paper and the issues in one command. For each mesh (unit-cube
-// normalised), seeded cases on the protocol of DESIGN.md — 20 % and 50 % of the vertices missing
+// normalised), seeded cases on the evaluation protocol (docs/design.md) — 20 % and 50 % of the vertices missing
 // (Table 2), 12 holes of radius 0.035 (Tables 3–4), Gaussian noise of 0.5 × mean edge along the
 // normals — each repaired by the classic baselines and by the patches (self-similar; with --dict a
 // global dictionary; with --local a local one learned from the clean mesh at the patch side the
@@ -13,7 +13,7 @@
 // (λ 0.5, μ −0.53) each at its best iteration count against the truth (an oracle no user has), and
 // our base (Taubin, iterations by the discrepancy principle).
 // The cases are this program's own (mesh_damage.h), not the harness's: figures differ from
-// ../shared/harness/BASELINES.md by the draw of the damage, not by the protocol.
+// the independent harness's baselines by the draw of the damage, not by the protocol.
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/eval/mesh_damage.h>
 #include <pcl_patchdict/geometry/mesh_fairing.h>

@@ -107,7 +107,7 @@ def repair(a, out, log):
     pdd, training = global_dictionary(a, out, log)
     run([a.build / "bench" / "repair_tables", *paths, "--dict", pdd, "--local", "--csv", out / "repair_tables.csv"],
         log, capture=out / "repair_tables.md")
-    note = ("Cases of `bench/repair_tables` (seeded damage of `mesh_damage.h` on the DESIGN.md protocol, not the "
+    note = ("Cases of `bench/repair_tables` (seeded damage of `mesh_damage.h` on the evaluation protocol of docs/design.md, not the "
             "harness's draw); global dictionary: 100 atoms from patches of side 0.058 of %s; local: learned from "
             "the clean mesh at the patch side the repair used. The bundled bunny keeps its five base openings, "
             "which `fill-holes` also closes: its new→GT includes them.\n\n" % ", ".join(training))
