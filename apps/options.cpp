@@ -119,7 +119,7 @@ std::vector<OptionSpec> operator+(std::vector<OptionSpec> a, const std::vector<O
 
 OptionSpec quadLength(double fallback, const std::string& help = "quad edge length, unit-cube units")
 {
-  return real("quad-length", "L", fallback, 1e-3, 1.0, help);
+  return real("quad-length", "L", fallback, 1e-3, 0.5, help);
 }
 
 OptionSpec overlap(long long fallback, const std::string& help = "4K extra seeds per quad")
@@ -127,9 +127,10 @@ OptionSpec overlap(long long fallback, const std::string& help = "4K extra seeds
   return integer("overlap", "K", fallback, 0, 16, help);
 }
 
+/** Patch sets of a whole surface and the dictionaries learned from them: at most 64 × 64 bins. */
 OptionSpec grid(long long fallback, const std::string& help = "bins per patch side")
 {
-  return integer("grid", "N", fallback, 2, 256, help);
+  return integer("grid", "N", fallback, 2, 64, help);
 }
 
 OptionSpec sparsity(long long fallback, const std::string& help = "atoms per sparse code at most")
@@ -200,7 +201,9 @@ std::vector<OptionSpec> patchStageOptions(const PatchDefaults& d)
   return options + std::vector<OptionSpec>{
       overlap(1),
       atoms(100, "atoms of the self-similar dictionary (not with --dict)"),
-      computed(grid(0, "bins per patch side; with --dict it must match"), "the dictionary's (16 self-similar)"),
+      computed(integer("grid", "N", 0, 2, 256, "bins per patch side; with --dict it must match"),
+               "the dictionary's (16 self-similar)")
+          .differing("it must match a given dictionary's, which a .pdd holds up to 256"),
       patchScale(1.0, 0.05, 20.0),
       real("centre-sigma", "S", 0.5, 0.0, 100.0,
            "constraint weight's Gaussian fall-off from the patch centre, × half the side"),
@@ -303,7 +306,9 @@ void addCodecCommands(std::vector<CommandSpec>& table)
   table.push_back(
       {"compress", "", "IN", 1, 1, "compress as quad mesh + sparse codes (.pdc); reports bytes per part and PSNR",
        {required("dict", "DICT.pdd", "the dictionary (the decoder needs the same)"),
-        required("output", "OUT.pdc", "the compressed file"), quadLength(0.05),
+        required("output", "OUT.pdc", "the compressed file"),
+        real("quad-length", "L", 0.05, 1e-3, 1.0, "quad edge length, unit-cube units")
+            .differing("the .pdc format holds quad lengths up to 1"),
         patchScale(1.25, 0.5, 4.0).differing("the .pdc format holds patch scales of 0.5 to 4"), overlap(0),
         sparsity(20, "non-zero coefficients per patch at most"),
         integer("coefficient-bits", "B", 6, 2, 16, "bits of a quantised coefficient"),

@@ -284,7 +284,7 @@ TEST(CliBadInput, OptionValuesOutOfRange)
       {"denoise " + in + out + " --dict {}/dict16.pdd --self-similar", 2, "excludes"},
       // The range in the message is the table's, as the help shows it (one range per option name).
       {"denoise " + in + out + " --grid 0 --self-similar", 2, "option --grid: 0 is out of range (2 to 256)"},
-      {"patches " + in + " -o {}/out.pds --grid 300", 2, "(2 to 256)"},
+      {"patches " + in + " -o {}/out.pds --grid 65", 2, "(2 to 64)"},
       {"fill-holes " + in + out + " --overlap 17", 2, "option --overlap: 17 is out of range (0 to 16)"},
       {"denoise " + in + out + " --self-similar --base-iterations -2", 2, "(-1 to 10000)"},
       {"denoise " + in + out + " --self-similar --fidelity 0", 2, "--fidelity"},
