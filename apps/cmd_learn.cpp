@@ -128,7 +128,8 @@ void readLearnLine(const Arguments& args, LearnRun& run)
   dictionary.setSparsity(static_cast<int>(args.getInt("sparsity")));
   dictionary.setLearningMethod(run.online ? PatchDictionary::LearningMethod::Online
                                           : PatchDictionary::LearningMethod::KSVD);
-  run.passes = static_cast<int>(args.getInt("iterations", run.online ? 3 : 20));
+  // Not given: 3 passes online, the learner's own K-SVD iterations (20) otherwise, as the table says.
+  run.passes = static_cast<int>(args.getInt("iterations", run.online ? 3 : dictionary.getIterations()));
   dictionary.setIterations(run.passes);
   dictionary.setBatchSize(static_cast<int>(args.getInt("batch")));
   dictionary.setSeed(static_cast<std::uint64_t>(args.getInt("seed")));

@@ -118,9 +118,10 @@ TEST(CliOptions, DefaultsLieInTheirRanges)
       break;
     case OptionKind::Word:
       EXPECT_GE(option->words.size(), 2u) << what;
-      if (option->has_default)
+      if (option->has_default) {
         EXPECT_NE(std::find(option->words.begin(), option->words.end(), option->text_default), option->words.end())
             << what;
+      }
       break;
     case OptionKind::Flag:
       EXPECT_FALSE(option->has_default) << what;
@@ -157,8 +158,9 @@ TEST(CliOptions, DefaultsAreTheLibrarys)
     EXPECT_EQ(realDefault(command, "agreement-scale"), p.agreement_scale);
     EXPECT_EQ(realDefault(command, "min-observed"), p.min_observed_fraction);
     EXPECT_EQ(static_cast<std::uint64_t>(intDefault(command, "seed")), p.seed);
-    if (mode != Mode::Denoise)
+    if (mode != Mode::Denoise) {
       EXPECT_EQ(realDefault(command, "mu"), p.constraint_weight);
+    }
   }
   const SparsePatchInpainter::Parameters holes = SparsePatchInpainter::defaultParameters(Mode::Holes);
   EXPECT_EQ(realDefault("fill-holes", "hole-factor"), holes.hole_quad_factor);
@@ -203,6 +205,8 @@ TEST(CliOptions, DefaultsAreTheLibrarys)
   EXPECT_EQ(intDefault("learn", "sparsity"), dictionary.getSparsity());
   EXPECT_EQ(intDefault("learn", "batch"), dictionary.getBatchSize());
   EXPECT_EQ(static_cast<std::uint64_t>(intDefault("learn", "seed")), dictionary.getSeed());
+  EXPECT_EQ(optionOf("learn", "iterations").note, "20 (ksvd), 3 (online)");  // computed in cmd_learn.cpp
+  EXPECT_EQ(dictionary.getIterations(), 20);
 
   const CloudDenoisingParameters cloud;
   const CloudCompletionParameters completion;
