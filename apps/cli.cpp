@@ -11,20 +11,29 @@
 #include <iostream>
 #include <omp.h>
 #include <sstream>
+#include <stdexcept>
 
 namespace pcl {
 namespace patchdict {
 namespace cli {
 
-Arguments::Arguments(const std::vector<std::string>& args, const CommandSpec& spec) : spec_(&spec)
+Arguments::Arguments(const std::vector<std::string>& args, const CommandSpec& spec) : specs_{&spec}
 {
-  parse(args, {&spec});
+  parse(args, specs_);
 }
 
 Arguments::Arguments(const std::vector<std::string>& args, const std::vector<const CommandSpec*>& specs)
-    : spec_(specs.empty() ? nullptr : specs.front())
+    : specs_(specs)
 {
-  parse(args, specs);
+  parse(args, specs_);
+}
+
+Arguments readCommandLine(const std::vector<std::string>& args, const CommandSpec& spec)
+{
+  Arguments arguments(args, spec);
+  arguments.expectUsage();
+  applyCommonOptions(arguments);
+  return arguments;
 }
 
 void Arguments::parse(const std::vector<std::string>& args, const std::vector<const CommandSpec*>& specs)
@@ -90,11 +99,12 @@ void Arguments::parse(const std::vector<std::string>& args, const std::vector<co
 
 void Arguments::expectUsage() const
 {
-  bool ok = positionals_.size() >= spec_->min_positionals && positionals_.size() <= spec_->max_positionals;
-  for (const OptionSpec& option : spec_->options)
+  const CommandSpec& spec = *specs_.front();
+  bool ok = positionals_.size() >= spec.min_positionals && positionals_.size() <= spec.max_positionals;
+  for (const OptionSpec& option : spec.options)
     ok = ok && (!option.required || has(option.name));
   if (!ok)
-    throw UsageError("usage: " + synopsis(*spec_) + " (see 'pcl_patchdict " + spec_->name + " --help')");
+    throw UsageError("usage: " + synopsis(spec) + " (see 'pcl_patchdict " + spec.name + " --help')");
 }
 
 void Arguments::needs(const std::string& name, const std::string& other, const std::string& why) const
@@ -109,48 +119,142 @@ void Arguments::refuse(const std::string& name, const std::string& message) cons
     throw UsageError("--" + name + " " + message);
 }
 
-std::string Arguments::get(const std::string& name, const std::string& fallback) const
+bool Arguments::takes(const std::string& name) const
 {
-  const auto it = values_.find(name);
-  return it == values_.end() ? fallback : it->second;
+  for (const CommandSpec* spec : specs_)
+    if (const OptionSpec* found = findOption(*spec, name))
+      return !found->hidden;
+  return false;
 }
 
-double Arguments::getDouble(const std::string& name, double fallback, double min_value, double max_value) const
+const OptionSpec& Arguments::option(const std::string& name) const
 {
-  if (!has(name))
-    return fallback;
-  const std::string text = get(name);
+  for (const CommandSpec* spec : specs_)
+    if (const OptionSpec* found = findOption(*spec, name))
+      return *found;
+  throw std::logic_error("option --" + name + " is read but not in the table of '" +
+                         (specs_.empty() ? std::string("?") : specs_.front()->name) + "'");
+}
+
+const OptionSpec& Arguments::option(const std::string& name, OptionKind kind) const
+{
+  const OptionSpec& found = option(name);
+  if (found.kind != kind)
+    throw std::logic_error("option --" + name + " is read as another kind than its table's");
+  return found;
+}
+
+std::string Arguments::get(const std::string& name) const
+{
+  const OptionSpec& found = option(name);
+  const auto it = values_.find(name);
+  if (it != values_.end())
+    return it->second;
+  return found.kind == OptionKind::Text && found.has_default ? found.text_default : std::string();
+}
+
+namespace {
+
+[[noreturn]] void noDefault(const OptionSpec& option, bool typed)
+{
+  throw std::logic_error("option --" + option.name +
+                         (typed ? " has a default in the table: it is read without one"
+                                : " has no default in the table: the command passes the value it computes"));
+}
+
+std::string outOfRange(const OptionSpec& option, const std::string& text)
+{
+  return "option --" + option.name + ": " + text + " is out of range (" + rangeText(option) + ")";
+}
+
+}  // namespace
+
+double Arguments::parseReal(const OptionSpec& spec) const
+{
+  const std::string text = values_.at(spec.name);
   double value = 0.0;
   const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
   if (result.ec != std::errc() || result.ptr != text.data() + text.size() || !std::isfinite(value))
-    throw UsageError("option --" + name + ": '" + text + "' is not a number");
-  if (value < min_value || value > max_value) {
-    std::ostringstream out;
-    out << "option --" << name << ": " << text << " is out of range [" << min_value << ", " << max_value << "]";
-    throw UsageError(out.str());
-  }
+    throw UsageError("option --" + spec.name + ": '" + text + "' is not a number");
+  if (value < spec.real_min || value > spec.real_max || (spec.above_min && value == spec.real_min))
+    throw UsageError(outOfRange(spec, text));
   return value;
 }
 
-long long Arguments::getInt(const std::string& name, long long fallback, long long min_value, long long max_value) const
+long long Arguments::parseInteger(const OptionSpec& spec) const
 {
-  if (!has(name))
-    return fallback;
-  const std::string text = get(name);
+  const std::string text = values_.at(spec.name);
   long long value = 0;
   const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
   if (result.ec != std::errc() || result.ptr != text.data() + text.size())
-    throw UsageError("option --" + name + ": '" + text + "' is not an integer");
-  if (value < min_value || value > max_value)
-    throw UsageError("option --" + name + ": " + text + " is out of range [" + std::to_string(min_value) +
-                     ", " + std::to_string(max_value) + "]");
+    throw UsageError("option --" + spec.name + ": '" + text + "' is not an integer");
+  if (value < spec.int_min || value > spec.int_max)
+    throw UsageError(outOfRange(spec, text));
   return value;
+}
+
+std::string Arguments::parseWord(const OptionSpec& spec) const
+{
+  const std::string text = values_.at(spec.name);
+  std::string list;
+  for (const std::string& word : spec.words) {
+    if (word == text)
+      return text;
+    list += (list.empty() ? "" : ", ") + word;
+  }
+  throw UsageError("option --" + spec.name + ": '" + text + "' is not one of " + list);
+}
+
+const OptionSpec& Arguments::checked(const std::string& name, OptionKind kind, bool computed) const
+{
+  const OptionSpec& spec = option(name, kind);
+  if (computed && spec.has_default)
+    noDefault(spec, true);
+  if (!computed && !spec.has_default && !has(name))
+    noDefault(spec, false);
+  return spec;
+}
+
+double Arguments::getDouble(const std::string& name) const
+{
+  const OptionSpec& spec = checked(name, OptionKind::Real, false);
+  return has(name) ? parseReal(spec) : spec.real_default;
+}
+
+double Arguments::getDouble(const std::string& name, double computed) const
+{
+  const OptionSpec& spec = checked(name, OptionKind::Real, true);
+  return has(name) ? parseReal(spec) : computed;
+}
+
+long long Arguments::getInt(const std::string& name) const
+{
+  const OptionSpec& spec = checked(name, OptionKind::Integer, false);
+  return has(name) ? parseInteger(spec) : spec.int_default;
+}
+
+long long Arguments::getInt(const std::string& name, long long computed) const
+{
+  const OptionSpec& spec = checked(name, OptionKind::Integer, true);
+  return has(name) ? parseInteger(spec) : computed;
+}
+
+std::string Arguments::getWord(const std::string& name) const
+{
+  const OptionSpec& spec = checked(name, OptionKind::Word, false);
+  return has(name) ? parseWord(spec) : spec.text_default;
+}
+
+std::string Arguments::getWord(const std::string& name, const std::string& computed) const
+{
+  const OptionSpec& spec = checked(name, OptionKind::Word, true);
+  return has(name) ? parseWord(spec) : computed;
 }
 
 void applyCommonOptions(const Arguments& args)
 {
   if (args.has("threads"))
-    omp_set_num_threads(static_cast<int>(args.getInt("threads", 1, 1, 1024)));
+    omp_set_num_threads(static_cast<int>(args.getInt("threads")));
 }
 
 namespace {

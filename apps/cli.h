@@ -5,6 +5,8 @@
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/io/mesh_io.h>
 
+#include "options.h"
+
 #include <chrono>
 #include <map>
 #include <set>
@@ -21,9 +23,9 @@ struct UsageError : Error {
   using Error::Error;
 };
 
-struct CommandSpec;
 
-/** Parsed command line of one subcommand: positionals in order, options by name. */
+/** Parsed command line of one subcommand: positionals in order, options by name. The getters read
+  * an option's default, range and words from the command's table (options.h), never from the call. */
 class Arguments {
 public:
   /** The options of `spec`'s table (options.h) and the common ones: value options take a value
@@ -36,9 +38,24 @@ public:
 
   const std::vector<std::string>& positionals() const { return positionals_; }
   bool has(const std::string& name) const { return values_.count(name) > 0; }
-  std::string get(const std::string& name, const std::string& fallback = "") const;
-  double getDouble(const std::string& name, double fallback, double min_value, double max_value) const;
-  long long getInt(const std::string& name, long long fallback, long long min_value, long long max_value) const;
+  /** --quiet or --json: no progress on stderr. */
+  bool quiet() const { return has("quiet") || has("json"); }
+  /** True when the command's table has a visible option `name` (a hidden one is only refused). */
+  bool takes(const std::string& name) const;
+  /** The value as given; not given: a Text option's table default, or "". */
+  std::string get(const std::string& name) const;
+  /** A Real, Integer or Word option: the value given, checked against the table's range or words
+    * (UsageError "option --name: 'V' is out of range (R)" or "is not one of ..."); not given, the
+    * table's default. std::logic_error when the table has no such option, it is of another kind,
+    * or it has no typed default and is not given (read it with the overload below). */
+  double getDouble(const std::string& name) const;
+  long long getInt(const std::string& name) const;
+  std::string getWord(const std::string& name) const;
+  /** The same for an option whose default the command computes (the table has none and says
+    * how): `computed` when not given. std::logic_error when the table has a typed default. */
+  double getDouble(const std::string& name, double computed) const;
+  long long getInt(const std::string& name, long long computed) const;
+  std::string getWord(const std::string& name, const std::string& computed) const;
   /** The table's positional count and required options; UsageError "usage: SYNOPSIS" otherwise. */
   void expectUsage() const;
   /** UsageError "--name needs --other" when `name` is given without `other`. */
@@ -48,10 +65,24 @@ public:
 
 private:
   void parse(const std::vector<std::string>& args, const std::vector<const CommandSpec*>& specs);
-  const CommandSpec* spec_ = nullptr;
+  /** The table's option `name` (std::logic_error when none, or when `kind` differs). */
+  const OptionSpec& option(const std::string& name) const;
+  const OptionSpec& option(const std::string& name, OptionKind kind) const;
+  /** option(name, kind), and std::logic_error for a typed default read as computed (`computed`) or
+    * a computed one read without its value and not given. */
+  const OptionSpec& checked(const std::string& name, OptionKind kind, bool computed) const;
+  /** The given value of a Real/Integer/Word option, checked. */
+  double parseReal(const OptionSpec& option) const;
+  long long parseInteger(const OptionSpec& option) const;
+  std::string parseWord(const OptionSpec& option) const;
+  std::vector<const CommandSpec*> specs_;
   std::vector<std::string> positionals_;
   std::map<std::string, std::string> values_;
 };
+
+/** Arguments of `spec`'s table with its usage checked (expectUsage) and --threads applied: the
+  * first lines of every command. */
+Arguments readCommandLine(const std::vector<std::string>& args, const CommandSpec& spec);
 
 /** Applies --threads. */
 void applyCommonOptions(const Arguments& args);

@@ -44,33 +44,29 @@ void addPsnr(JsonObject& json, const SurfaceDistance& d, const TriangleMesh& ref
 
 int runCompress(const std::vector<std::string>& raw)
 {
-  const Arguments args(raw, commandSpec("compress"));
-  args.expectUsage();
+  const Arguments args = readCommandLine(raw, commandSpec("compress"));
   args.needs("location-bits", "keep-connectivity", "only the kept connectivity stores vertex places");
   if (args.has("no-eval"))
     args.refuse("samples", "counts the samples of the PSNR, which --no-eval turns off");
-  applyCommonOptions(args);
-  const bool quiet = args.has("quiet") || args.has("json");
+  const bool quiet = args.quiet();
   PatchCodecParameters parameters;
-  parameters.quad_length = args.getDouble("quad-length", parameters.quad_length, 1e-3, 1.0);
-  parameters.patch_scale = args.getDouble("patch-scale", parameters.patch_scale, 0.5, 4.0);
-  parameters.overlap = static_cast<int>(args.getInt("overlap", parameters.overlap, 0, 16));
-  parameters.coefficients = static_cast<int>(args.getInt("sparsity", parameters.coefficients, 1, 65536));
-  parameters.coefficient_bits = static_cast<int>(args.getInt("coefficient-bits", parameters.coefficient_bits, 2, 16));
-  parameters.position_bits = static_cast<int>(args.getInt("position-bits", parameters.position_bits, 4, 24));
-  parameters.subdivision = static_cast<int>(args.getInt("subdivision", parameters.subdivision, 0, 256));
-  parameters.smoothing_iterations =
-      static_cast<int>(args.getInt("smoothing-iterations", parameters.smoothing_iterations, 0, 10000));
+  parameters.quad_length = args.getDouble("quad-length");
+  parameters.patch_scale = args.getDouble("patch-scale");
+  parameters.overlap = static_cast<int>(args.getInt("overlap"));
+  parameters.coefficients = static_cast<int>(args.getInt("sparsity"));
+  parameters.coefficient_bits = static_cast<int>(args.getInt("coefficient-bits"));
+  parameters.position_bits = static_cast<int>(args.getInt("position-bits"));
+  parameters.subdivision = static_cast<int>(args.getInt("subdivision"));
+  parameters.smoothing_iterations = static_cast<int>(args.getInt("smoothing-iterations"));
   parameters.keep_connectivity = args.has("keep-connectivity");
-  parameters.location_bits = static_cast<int>(args.getInt("location-bits", parameters.location_bits, 4, 16));
+  parameters.location_bits = static_cast<int>(args.getInt("location-bits"));
   parameters.project_quads = !args.has("no-projection");
-  parameters.coverage_tolerance =
-      args.getDouble("coverage-tolerance", parameters.coverage_tolerance, 0.0, 10.0);
-  parameters.coverage_budget = args.getDouble("coverage-budget", parameters.coverage_budget, 0.0, 10.0);
-  parameters.target_error = args.getDouble("target-error", parameters.target_error, 0.0, 1.0);
-  parameters.atom_cost = args.getDouble("atom-cost", parameters.atom_cost, 0.0, 10.0);
-  parameters.seed = static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62)));
-  const auto samples = static_cast<std::size_t>(args.getInt("samples", 200000, 1000, 100000000));
+  parameters.coverage_tolerance = args.getDouble("coverage-tolerance");
+  parameters.coverage_budget = args.getDouble("coverage-budget");
+  parameters.target_error = args.getDouble("target-error");
+  parameters.atom_cost = args.getDouble("atom-cost");
+  parameters.seed = static_cast<std::uint64_t>(args.getInt("seed"));
+  const auto samples = static_cast<std::size_t>(args.getInt("samples"));
   const std::string input = args.positionals()[0], output = args.get("output");
   checkOutputPath(output, input);
   if (sameFile(args.get("dict"), output))
@@ -141,12 +137,10 @@ int runCompress(const std::vector<std::string>& raw)
 
 int runDecompress(const std::vector<std::string>& raw)
 {
-  const Arguments args(raw, commandSpec("decompress"));
-  args.expectUsage();
+  const Arguments args = readCommandLine(raw, commandSpec("decompress"));
   args.needs("samples", "ref", "they sample the score against the reference");
-  applyCommonOptions(args);
-  const bool quiet = args.has("quiet") || args.has("json");
-  const auto samples = static_cast<std::size_t>(args.getInt("samples", 200000, 1000, 100000000));
+  const bool quiet = args.quiet();
+  const auto samples = static_cast<std::size_t>(args.getInt("samples"));
   const std::string input = args.positionals()[0], output = args.get("output");
   checkOutputPath(output, input);
   if (sameFile(args.get("dict"), output))
@@ -191,7 +185,7 @@ int runDecompress(const std::vector<std::string>& raw)
   if (args.has("ref")) {
     timer.start("eval");
     reference = loadMesh(args.get("ref"), true);
-    distance = surfaceDistance(reference, decoded, samples, static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62))));
+    distance = surfaceDistance(reference, decoded, samples, static_cast<std::uint64_t>(args.getInt("seed")));
   }
   timer.stop();
   if (args.has("json")) {

@@ -231,13 +231,11 @@ void printDemo(const Demo& demo, bool json_output, const StageTimer& timer)
 
 int runDemo(const std::vector<std::string>& raw)
 {
-  const Arguments args(raw, commandSpec("demo"));
-  args.expectUsage();
-  applyCommonOptions(args);
-  const bool quiet = args.has("quiet") || args.has("json");
+  const Arguments args = readCommandLine(raw, commandSpec("demo"));
+  const bool quiet = args.quiet();
   Demo demo;
-  demo.seed = static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62)));
-  demo.folder = args.get("output", "pcl_patchdict_demo");
+  demo.seed = static_cast<std::uint64_t>(args.getInt("seed"));
+  demo.folder = args.get("output");
   demo.pictures = !args.has("no-pictures");
 
   StageTimer timer(quiet);

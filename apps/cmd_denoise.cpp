@@ -6,7 +6,6 @@
 // noisy input itself: nothing of a noisy input is intact, and measured on scans such a dictionary
 // makes the result worse than the base (README "Measured").
 #include "cli.h"
-#include "cloud_input.h"
 #include "options.h"
 #include "repair_options.h"
 
@@ -24,12 +23,8 @@ int runCloudDenoise(const std::vector<std::string>& raw);
 
 int runDenoise(const std::vector<std::string>& raw)
 {
-  // A point cloud (.pcd, face-less .ply) takes the cloud path, with its own options.
-  {
-    const Arguments probe(raw, {&commandSpec("denoise"), &commandSpec("denoise", "cloud")});
-    if (probe.positionals().size() == 1 && isCloudFile(probe.positionals()[0]))
-      return runCloudDenoise(raw);
-  }
+  if (takesCloudPath(raw, "denoise"))
+    return runCloudDenoise(raw);
   const RepairCommandLine line = parseRepairCommand(raw, commandSpec("denoise"), true);
   const Arguments& args = line.args;
   if (args.has("self-similar") && (args.has("dict") || args.has("no-patches")))
@@ -43,35 +38,26 @@ int runDenoise(const std::vector<std::string>& raw)
   const bool quiet = line.quiet;
   const std::string& in_path = line.in_path;
   const std::string& out_path = line.out_path;
-  SparsePatchInpainter::Parameters parameters =
-      SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Denoise);
-  readRepairOptions(args, parameters);
-  parameters.noise_sigma = args.getDouble("noise", 0.0, 0.0, 1.0);
-  const double noise_edges = args.getDouble("noise-edges", 0.0, 0.0, 100.0);
+  SparsePatchInpainter::Parameters parameters = readRepairOptions(args, SparsePatchInpainter::Mode::Denoise);
+  parameters.noise_sigma = args.getDouble("noise");
+  const double noise_edges = args.getDouble("noise-edges", 0.0);  // read only when given
   const bool use_patches = args.has("dict") || args.has("self-similar");
   const std::string dictionary_kind = args.has("dict") ? "given" : (use_patches ? "self-similar" : "none");
-  parameters.error_factor = args.getDouble("error-factor", parameters.error_factor, 0.0, 100.0);
-  parameters.fidelity = args.getDouble("fidelity", parameters.fidelity, 1e-9, 1e9);
-  parameters.base_iterations = static_cast<int>(args.getInt("base-iterations", -1, -1, 10000));
-  parameters.discrepancy = args.getDouble("discrepancy", parameters.discrepancy, 0.0, 100.0);
-
-  const ReportRequest report_request = prepareReport(args);
+  parameters.error_factor = args.getDouble("error-factor");
+  parameters.fidelity = args.getDouble("fidelity");
+  parameters.base_iterations = static_cast<int>(args.getInt("base-iterations"));
+  parameters.discrepancy = args.getDouble("discrepancy");
   StageTimer timer(quiet);
-  timer.start("load");
-  const TriangleMesh mesh = loadRepairMesh(in_path, quiet, "denoise");
-  const PatchDictionary::ConstPtr dictionary = loadRepairDictionary(args, parameters.grid_size);
+  const RepairInputs inputs = loadRepairInputs(line, parameters.grid_size, "denoise", timer);
+  const TriangleMesh& mesh = inputs.mesh;
   if (args.has("noise-edges"))  // σ in mean edge lengths, in the unit-cube units of the other lengths
     parameters.noise_sigma = noise_edges * UnitCubeNormalization::fromMesh(mesh).applyLength(mesh.meanEdgeLength());
 
   timer.start("denoise");
   SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Denoise);
-  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
-  inpainter.setDictionary(dictionary);
-  inpainter.setUsePatches(use_patches);
-  inpainter.setParameters(parameters);
   TriangleMesh denoised;
-  SparsePatchInpainter::Report report;
-  inpainter.process(denoised, &report);
+  const SparsePatchInpainter::Report report =
+      runRepair(inpainter, mesh, inputs.dictionary, use_patches, parameters, denoised);
   char sigma_line[160];
   std::snprintf(sigma_line, sizeof sigma_line, "  noise sigma %.4g (%s, %.3f x mean edge)", report.noise_sigma,
                 report.noise_estimated ? "estimated" : "given",
@@ -84,7 +70,7 @@ int runDenoise(const std::vector<std::string>& raw)
   timer.start("write");
   writeMesh(out_path, denoised);
   timer.stop();
-  const JsonObject report_json = reportIfAsked(report_request, mesh, denoised, denoised.numFaces(), quiet);
+  const JsonObject report_json = reportIfAsked(inputs.report, mesh, denoised, denoised.numFaces(), quiet);
 
   if (args.has("json")) {
     JsonObject json;

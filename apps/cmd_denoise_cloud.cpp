@@ -33,7 +33,17 @@ struct CloudRepairLine {
   std::string in_path, out_path;
   MeshFormat out_format = MeshFormat::Unknown;
   CloudDenoisingParameters parameters;
-  double noise = 0.0, bandwidth = 0.0, max_hole_diameter = 0.15;
+  double noise = 0.0, bandwidth = 0.0;  ///< in the units of --absolute's choice
+  // fill-holes only (denoise keeps the library's defaults):
+  CloudCompletionParameters completion;  ///< max_hole_diameter in those units; 0: each fill's own bound
+  OrganizedFillParameters organized;
+  std::string height_field = "auto";
+  /// The bound the report names: the one given, or Poisson's own (CloudHoleCompletion's 0.15 × the
+  /// largest side when max_hole_diameter is 0).
+  double reportedMaxHoleDiameter() const
+  {
+    return completion.max_hole_diameter > 0.0 ? completion.max_hole_diameter : 0.15;
+  }
 };
 
 /** What the inpainter made, with the input record of every output point. */
@@ -53,15 +63,13 @@ struct CloudRepairResult {
 // 1. The command line.
 CloudRepairLine readCloudRepairLine(const Arguments& args, bool fill)
 {
-  args.expectUsage();
-  applyCommonOptions(args);
   if (args.has("no-outlier-filter")) {
     args.refuse("outlier-neighbours", "tunes the outlier pre-filter, which --no-outlier-filter turns off");
     args.refuse("outlier-std", "tunes the outlier pre-filter, which --no-outlier-filter turns off");
   }
   CloudRepairLine line;
   line.fill = fill;
-  line.quiet = args.has("quiet") || args.has("json");
+  line.quiet = args.quiet();
   line.in_path = args.positionals()[0];
   line.out_path = args.get("output");
   checkOutputPath(line.out_path, line.in_path);
@@ -70,12 +78,20 @@ CloudRepairLine readCloudRepairLine(const Arguments& args, bool fill)
     throw Error("output '" + line.out_path + "' must be a cloud file (.pcd, or .ply written without faces)");
   CloudDenoisingParameters& parameters = line.parameters;
   parameters.outlier_filter = !args.has("no-outlier-filter");
-  parameters.outlier_neighbours = static_cast<int>(args.getInt("outlier-neighbours", 50, 1, 1000));
-  parameters.outlier_std = args.getDouble("outlier-std", 1.0, 0.0, 1e6);
-  parameters.residual_outlier_factor = args.getDouble("residual-outliers", 4.0, 0.0, 1e6);
-  line.noise = args.getDouble("noise", 0.0, 0.0, 1e300);
-  line.bandwidth = args.getDouble("bandwidth", 0.0, 0.0, 1e300);
-  line.max_hole_diameter = args.getDouble("max-hole-diameter", 0.15, 1e-300, 1e300);
+  parameters.outlier_neighbours = static_cast<int>(args.getInt("outlier-neighbours"));
+  parameters.outlier_std = args.getDouble("outlier-std");
+  parameters.residual_outlier_factor = args.getDouble("residual-outliers");
+  line.noise = args.getDouble("noise");
+  line.bandwidth = args.getDouble("bandwidth");
+  if (fill) {
+    // Not given: each fill's own bound (Poisson's gaps 0.15 × the largest side, a depth image's
+    // max_hole_pixels, a height field's 150 spacings).
+    line.completion.max_hole_diameter = args.getDouble("max-hole-diameter", 0.0);
+    line.completion.rim_width = args.getDouble("rim-width");
+    line.organized.max_hole_pixels = static_cast<std::size_t>(args.getInt("max-hole-pixels"));
+    line.organized.fit_ring = static_cast<int>(args.getInt("fit-ring"));
+    line.height_field = args.getWord("height-field");
+  }
   return line;
 }
 
@@ -102,21 +118,14 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
         (!input.origin.head<3>().isZero() || !input.orientation.isApprox(Eigen::Quaternionf::Identity())))
       inpainter.setViewpoint((input.origin.head<3>().cast<double>() - input.offset).eval());
     inpainter.setMode(static_cast<typename std::decay_t<decltype(inpainter)>::Mode>(static_cast<int>(result.mode)));
-    CloudCompletionParameters completion;
-    // Not given: each fill's own bound (Poisson's gaps 0.15 × the largest side, a depth image's
-    // max_hole_pixels, a height field's 150 spacings).
-    completion.max_hole_diameter = args.has("max-hole-diameter") ? line.max_hole_diameter * scale : 0.0;
-    completion.rim_width = args.getDouble("rim-width", completion.rim_width, 0.05, 10.0);
+    CloudCompletionParameters completion = line.completion;
+    completion.max_hole_diameter *= scale;
     inpainter.setCompletionParameters(completion);
-    OrganizedFillParameters organized;
-    organized.max_hole_pixels = static_cast<std::size_t>(args.getInt("max-hole-pixels", 2000, 1, 100000000));
-    organized.fit_ring = static_cast<int>(args.getInt("fit-ring", 0, 0, 64));
-    inpainter.setOrganizedFillParameters(organized);
-    const std::string height_field = args.get("height-field", "auto");
-    if (height_field != "auto" && height_field != "yes" && height_field != "no")
-      throw UsageError("--height-field must be auto, yes or no");
+    inpainter.setOrganizedFillParameters(line.organized);
     using Choice = typename std::decay_t<decltype(inpainter)>::HeightField;
-    inpainter.setHeightField(height_field == "yes" ? Choice::Always : height_field == "no" ? Choice::Never : Choice::Auto);
+    inpainter.setHeightField(line.height_field == "yes"  ? Choice::Always
+                             : line.height_field == "no" ? Choice::Never
+                                                         : Choice::Auto);
     inpainter.process(out);
     result.report = inpainter.getReport();
     result.records = inpainter.getKeptIndices();
@@ -173,7 +182,7 @@ void noteCloudRepair(const CloudRepairLine& line, const CloudRepairResult& resul
                   "  Poisson depth %d: %zu gaps, %zu holes filled (%zu by implicits, %zu by splines), %zu from Poisson, "
                   "%zu wider than %.3g left open; %zu points added (lattice %.3g)",
                   c.poisson_depth, c.gaps, c.holes_filled, c.holes_implicit, c.holes_filled - c.holes_implicit,
-                  c.holes_from_poisson, c.holes_too_large, line.max_hole_diameter,
+                  c.holes_from_poisson, c.holes_too_large, line.reportedMaxHoleDiameter(),
                   c.points_added, c.lattice_spacing / scale);
     note(quiet, text);
   }
@@ -339,7 +348,7 @@ JsonObject cloudRepairJson(const CloudRepairLine& line, const CloudInput& input,
     const CloudCompletionReport& c = report.completion;
     JsonObject holes;
     holes.add("gaps", c.gaps).add("filled", c.holes_filled).add("too_large", c.holes_too_large)
-        .add("implicit", c.holes_implicit).add("from_poisson", c.holes_from_poisson).add("max_hole_diameter", line.max_hole_diameter)
+        .add("implicit", c.holes_implicit).add("from_poisson", c.holes_from_poisson).add("max_hole_diameter", line.reportedMaxHoleDiameter())
         .add("poisson_depth", c.poisson_depth).add("poisson_faces", c.poisson_faces)
         .add("lattice_spacing", c.lattice_spacing / scale).add("density", c.density * scale * scale);
     json.add("holes", holes);
@@ -394,7 +403,7 @@ JsonObject cloudRepairJson(const CloudRepairLine& line, const CloudInput& input,
 // denoise (fill = false) or fill-holes (fill = true) on a cloud.
 int runCloudRepair(const std::vector<std::string>& raw, bool fill)
 {
-  const Arguments args(raw, commandSpec(fill ? "fill-holes" : "denoise", "cloud"));
+  const Arguments args = readCommandLine(raw, commandSpec(fill ? "fill-holes" : "denoise", "cloud"));
   const CloudRepairLine line = readCloudRepairLine(args, fill);
 
   StageTimer timer(line.quiet);

@@ -40,12 +40,10 @@ void printEval(bool absolute, const std::string& ref_path, const std::string& ou
 
 int runEval(const std::vector<std::string>& raw)
 {
-  const Arguments args(raw, commandSpec("eval"));
-  args.expectUsage();
-  applyCommonOptions(args);
-  const bool quiet = args.has("quiet") || args.has("json");
-  const auto samples = static_cast<std::size_t>(args.getInt("samples", 200000, 1000, 100000000));
-  const auto seed = static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62)));
+  const Arguments args = readCommandLine(raw, commandSpec("eval"));
+  const bool quiet = args.quiet();
+  const auto samples = static_cast<std::size_t>(args.getInt("samples"));
+  const auto seed = static_cast<std::uint64_t>(args.getInt("seed"));
 
   StageTimer timer(quiet);
   timer.start("load");

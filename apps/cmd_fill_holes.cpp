@@ -2,7 +2,6 @@
 // triangulate–refine–fair, then the new vertices corrected by patches (SparsePatchInpainter, Holes).
 // The output keeps the input vertices first, bit-identical and in order, then the new ones.
 #include "cli.h"
-#include "cloud_input.h"
 #include "options.h"
 #include "repair_options.h"
 
@@ -78,40 +77,26 @@ JsonObject fillHolesJson(const Arguments& args, const RepairCommandLine& line,
 
 int runFillHoles(const std::vector<std::string>& raw)
 {
-  {  // A point cloud (.pcd, face-less .ply) takes the cloud path, with its own options.
-    const Arguments probe(raw, {&commandSpec("fill-holes"), &commandSpec("fill-holes", "cloud")});
-    if (probe.positionals().size() == 1 && isCloudFile(probe.positionals()[0]))
-      return runCloudFillHoles(raw);
-  }
+  if (takesCloudPath(raw, "fill-holes"))
+    return runCloudFillHoles(raw);
   const RepairCommandLine line = parseRepairCommand(raw, commandSpec("fill-holes"), false);
   const Arguments& args = line.args;
   args.needs("absolute", "max-hole-diameter", "it is the one length given in the input's units");
+  const auto max_edges = static_cast<std::size_t>(args.getInt("max-hole-edges"));
+  const double max_diameter = args.getDouble("max-hole-diameter", std::numeric_limits<double>::infinity());
   const bool quiet = line.quiet;
-  const auto max_edges = static_cast<std::size_t>(args.getInt("max-hole-edges", 0, 0, 1LL << 40));
-  const double max_diameter =
-      args.getDouble("max-hole-diameter", std::numeric_limits<double>::infinity(), 0.0, 1e300);
   const std::string& in_path = line.in_path;
   const std::string& out_path = line.out_path;
-
-  SparsePatchInpainter::Parameters parameters =
-      SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::Holes);
-  readRepairOptions(args, parameters);
-  parameters.hole_quad_factor = args.getDouble("hole-factor", parameters.hole_quad_factor, 0.0, 100.0);
-  const std::string surface = args.get("surface", "auto");
-  if (surface == "auto")
-    parameters.hole_settings = SparsePatchInpainter::Parameters::HoleSettings::Auto;
-  else if (surface == "smooth")
-    parameters.hole_settings = SparsePatchInpainter::Parameters::HoleSettings::Smooth;
-  else if (surface == "relief")
-    parameters.hole_settings = SparsePatchInpainter::Parameters::HoleSettings::Relief;
-  else
-    throw UsageError("--surface takes auto, smooth or relief, not '" + surface + "'");
-
-  const ReportRequest report_request = prepareReport(args);
+  SparsePatchInpainter::Parameters parameters = readRepairOptions(args, SparsePatchInpainter::Mode::Holes);
+  parameters.hole_quad_factor = args.getDouble("hole-factor");
+  using HoleSettings = SparsePatchInpainter::Parameters::HoleSettings;
+  const std::string surface = args.getWord("surface");
+  parameters.hole_settings = surface == "smooth"   ? HoleSettings::Smooth
+                             : surface == "relief" ? HoleSettings::Relief
+                                                   : HoleSettings::Auto;
   StageTimer timer(quiet);
-  timer.start("load");
-  const TriangleMesh mesh = loadRepairMesh(in_path, quiet, "fill-holes");
-  const PatchDictionary::ConstPtr dictionary = loadRepairDictionary(args, parameters.grid_size);
+  const RepairInputs inputs = loadRepairInputs(line, parameters.grid_size, "fill-holes", timer);
+  const TriangleMesh& mesh = inputs.mesh;
 
   timer.start("fill");
   HoleFilling filler;
@@ -122,14 +107,10 @@ int runFillHoles(const std::vector<std::string>& raw)
     diameter_limit = UnitCubeNormalization::fromMesh(mesh).invertLength(max_diameter);
   filler.setMaxHoleDiameter(diameter_limit > 0.0 ? diameter_limit : std::numeric_limits<double>::min());
   SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Holes);
-  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
   inpainter.setHoleFilling(filler);
-  inpainter.setDictionary(dictionary);
-  inpainter.setUsePatches(!args.has("no-patches"));
-  inpainter.setParameters(parameters);
   TriangleMesh filled;
-  SparsePatchInpainter::Report repair;
-  inpainter.process(filled, &repair);
+  const SparsePatchInpainter::Report repair =
+      runRepair(inpainter, mesh, inputs.dictionary, !args.has("no-patches"), parameters, filled);
   const HoleFilling::Report& report = repair.holes;
   if (repair.used_patches) {
     char line[200];
@@ -143,7 +124,7 @@ int runFillHoles(const std::vector<std::string>& raw)
   timer.start("write");
   writeMesh(out_path, filled);
   timer.stop();
-  const JsonObject report_json = reportIfAsked(report_request, mesh, filled, mesh.numFaces(), quiet);
+  const JsonObject report_json = reportIfAsked(inputs.report, mesh, filled, mesh.numFaces(), quiet);
 
   std::map<std::string, std::size_t> reasons;
   for (const auto& hole : report.holes)

@@ -13,9 +13,7 @@ namespace cli {
 
 int runInfo(const std::vector<std::string>& raw)
 {
-  const Arguments args(raw, commandSpec("info"));
-  args.expectUsage();
-  applyCommonOptions(args);
+  const Arguments args = readCommandLine(raw, commandSpec("info"));
   if (isCloudFile(args.positionals()[0]))
     return runCloudInfo(args);
   ReadInfo read_info;

@@ -22,32 +22,24 @@ int runInpaint(const std::vector<std::string>& raw)
   const bool quiet = line.quiet;
   const std::string& in_path = line.in_path;
   const std::string& out_path = line.out_path;
-  SparsePatchInpainter::Parameters parameters =
-      SparsePatchInpainter::defaultParameters(SparsePatchInpainter::Mode::MissingVertices);
-  readRepairOptions(args, parameters);
-
-  const ReportRequest report_request = prepareReport(args);
+  const SparsePatchInpainter::Parameters parameters =
+      readRepairOptions(args, SparsePatchInpainter::Mode::MissingVertices);
   StageTimer timer(quiet);
-  timer.start("load");
-  const TriangleMesh mesh = loadRepairMesh(in_path, quiet, "inpaint");
+  const RepairInputs inputs = loadRepairInputs(line, parameters.grid_size, "inpaint", timer);
+  const TriangleMesh& mesh = inputs.mesh;
   const std::vector<int> missing = readIndexFile(args.get("missing"), mesh.numVertices());
-  const PatchDictionary::ConstPtr dictionary = loadRepairDictionary(args, parameters.grid_size);
 
   timer.start("inpaint");
   SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::MissingVertices);
-  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
   inpainter.setMissingVertices(missing);
-  inpainter.setDictionary(dictionary);
-  inpainter.setUsePatches(!args.has("no-patches"));
-  inpainter.setParameters(parameters);
   TriangleMesh repaired;
-  SparsePatchInpainter::Report report;
-  inpainter.process(repaired, &report);
+  const SparsePatchInpainter::Report report =
+      runRepair(inpainter, mesh, inputs.dictionary, !args.has("no-patches"), parameters, repaired);
 
   timer.start("write");
   writeMesh(out_path, repaired);
   timer.stop();
-  const JsonObject report_json = reportIfAsked(report_request, mesh, repaired, repaired.numFaces(), quiet);
+  const JsonObject report_json = reportIfAsked(inputs.report, mesh, repaired, repaired.numFaces(), quiet);
 
   const std::string dictionary_kind = dictionaryKind(args);
   if (report.used_patches)

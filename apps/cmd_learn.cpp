@@ -102,9 +102,7 @@ struct LearnRun {
 // 1. The command line: the inputs expanded, the method chosen, the options checked against it.
 void readLearnLine(const Arguments& args, LearnRun& run)
 {
-  args.expectUsage();
-  applyCommonOptions(args);
-  run.quiet = args.has("quiet") || args.has("json");
+  run.quiet = args.quiet();
   run.output = args.get("output");
   run.png = args.get("png");
   run.checkpoint_path = args.get("checkpoint");
@@ -115,9 +113,7 @@ void readLearnLine(const Arguments& args, LearnRun& run)
   // One input is a local dictionary: K-SVD, the paper's method and the better one when the
   // patches fit in memory. Several are a global dictionary: online learning, whose memory does
   // not grow with the number of patches and which can be checkpointed and resumed.
-  run.method = args.get("method", run.num_inputs == 1 ? "ksvd" : "online");
-  if (run.method != "ksvd" && run.method != "online")
-    throw UsageError("option --method: '" + run.method + "' is not ksvd or online");
+  run.method = args.getWord("method", run.num_inputs == 1 ? "ksvd" : "online");
   run.online = run.method == "online";
   for (const char* name : {"batch", "buffer", "checkpoint", "checkpoint-every", "resume", "stop-after"})
     if (!run.online && args.has(name))
@@ -128,22 +124,23 @@ void readLearnLine(const Arguments& args, LearnRun& run)
     throw UsageError("--checkpoint-every and --stop-after need --checkpoint FILE");
 
   PatchDictionary& dictionary = run.dictionary;
-  dictionary.setNumAtoms(static_cast<int>(args.getInt("atoms", 100, 1, 65536)));
-  dictionary.setSparsity(static_cast<int>(args.getInt("sparsity", 8, 1, 1024)));
+  dictionary.setNumAtoms(static_cast<int>(args.getInt("atoms")));
+  dictionary.setSparsity(static_cast<int>(args.getInt("sparsity")));
   dictionary.setLearningMethod(run.online ? PatchDictionary::LearningMethod::Online
                                           : PatchDictionary::LearningMethod::KSVD);
-  run.passes = static_cast<int>(args.getInt("iterations", run.online ? 3 : 20, 1, 100000));
+  // Not given: 3 passes online, the learner's own K-SVD iterations (20) otherwise, as the table says.
+  run.passes = static_cast<int>(args.getInt("iterations", run.online ? 3 : dictionary.getIterations()));
   dictionary.setIterations(run.passes);
-  dictionary.setBatchSize(static_cast<int>(args.getInt("batch", 512, 1, 1 << 20)));
-  dictionary.setSeed(static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62))));
+  dictionary.setBatchSize(static_cast<int>(args.getInt("batch")));
+  dictionary.setSeed(static_cast<std::uint64_t>(args.getInt("seed")));
   dictionary.setRemoveMean(args.has("remove-mean"));
-  run.buffer_capacity = static_cast<std::size_t>(args.getInt("buffer", 20000, 1, 1LL << 32));
-  run.checkpoint_every = static_cast<std::size_t>(args.getInt("checkpoint-every", 10, 1, 1LL << 40));
-  run.stop_after = static_cast<std::size_t>(args.getInt("stop-after", 0, 1, 1LL << 40));
+  run.buffer_capacity = static_cast<std::size_t>(args.getInt("buffer"));
+  run.checkpoint_every = static_cast<std::size_t>(args.getInt("checkpoint-every"));
+  run.stop_after = static_cast<std::size_t>(args.getInt("stop-after", 0));  // 0: never
   run.skip_bad = args.has("skip-bad");
-  run.surface_options.grid_size = static_cast<int>(args.getInt("grid", 16, 2, 64));
-  run.surface_options.quad_length = args.getDouble("quad-length", 0.03, 1e-3, 0.5);
-  run.surface_options.overlap = static_cast<int>(args.getInt("overlap", 1, 0, 16));
+  run.surface_options.grid_size = static_cast<int>(args.getInt("grid"));
+  run.surface_options.quad_length = args.getDouble("quad-length");
+  run.surface_options.overlap = static_cast<int>(args.getInt("overlap"));
   run.surface_options.seed = dictionary.getSeed();
   run.grid_size = args.has("grid") ? run.surface_options.grid_size : 0;
 
@@ -175,7 +172,7 @@ void startOnline(const Arguments& args, LearnRun& run, OnlineDictionaryLearner& 
                        {"seed", std::to_string(parameters.seed)},
                        {"iterations", std::to_string(run.passes)},
                        {"buffer", std::to_string(run.buffer_capacity)},
-                       {"grid", args.get("grid", "(first input)")},
+                       {"grid", args.has("grid") ? args.get("grid") : "(first input)"},
                        {"quad-length", number(run.surface_options.quad_length)},
                        {"overlap", std::to_string(run.surface_options.overlap)},
                        {"skip-bad", run.skip_bad ? "yes" : "no"}};
@@ -358,7 +355,7 @@ JsonObject learnJson(const LearnRun& run, std::size_t patch_count, double observ
 
 int runLearn(const std::vector<std::string>& raw)
 {
-  const Arguments args(raw, commandSpec("learn"));
+  const Arguments args = readCommandLine(raw, commandSpec("learn"));
   LearnRun run;
   readLearnLine(args, run);
 

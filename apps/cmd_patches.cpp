@@ -30,15 +30,14 @@ JsonObject normalisationJson(const SurfacePatches& surface)
 
 int runPatches(const std::vector<std::string>& raw)
 {
-  const Arguments args(raw, commandSpec("patches"));
-  args.expectUsage();
-  applyCommonOptions(args);
-  const bool quiet = args.has("quiet") || args.has("json");
-  const int grid_size = static_cast<int>(args.getInt("grid", 16, 2, 64));
-  const double quad_length = args.getDouble("quad-length", 0.03, 1e-3, 0.5);
-  const int overlap = static_cast<int>(args.getInt("overlap", 1, 0, 16));
-  const SeedPlacement seed_placement = parseSeedPlacement(args.get("placement", "quads"));
-  const auto seed = static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62)));
+  const Arguments args = readCommandLine(raw, commandSpec("patches"));
+  const bool quiet = args.quiet();
+  SurfacePatchOptions options;
+  options.grid_size = static_cast<int>(args.getInt("grid"));
+  options.quad_length = args.getDouble("quad-length");
+  options.overlap = static_cast<int>(args.getInt("overlap"));
+  options.placement = parseSeedPlacement(args.getWord("placement"));
+  options.seed = static_cast<std::uint64_t>(args.getInt("seed"));
   const std::string input = args.positionals()[0], output = args.get("output"), png = args.get("png");
   checkOutputPath(output, input);
   checkOutputPath(png, input);
@@ -46,17 +45,11 @@ int runPatches(const std::vector<std::string>& raw)
     throw UsageError("--png and -o name the same file");
 
   StageTimer timer(quiet);
-  SurfacePatchOptions options;
-  options.grid_size = grid_size;
-  options.quad_length = quad_length;
-  options.overlap = overlap;
-  options.seed = seed;
-  options.placement = seed_placement;
   const SurfacePatches surface = surfacePatches(input, options, quiet, &timer);
   const PatchSet& patches = surface.patches;
   const bool is_cloud = surface.is_cloud;
-  note(quiet, "  " + std::to_string(patches.numPatches()) + " patches of " + std::to_string(grid_size) + "×" +
-                  std::to_string(grid_size) + " bins, " +
+  note(quiet, "  " + std::to_string(patches.numPatches()) + " patches of " + std::to_string(options.grid_size) + "×" +
+                  std::to_string(options.grid_size) + " bins, " +
                   std::to_string(static_cast<int>(100.0 * patches.observedFraction() + 0.5)) + " % observed");
   timer.start("save");
   patches.save(output);
@@ -71,8 +64,9 @@ int runPatches(const std::vector<std::string>& raw)
     json.add("faces", surface.faces);
     if (is_cloud)
       json.add("poisson_depth", surface.poisson_depth).add("coarse_faces", surface.coarse_faces);
-    json.add("patches", patches.numPatches()).add("grid_size", grid_size).add("quad_length", quad_length);
-    json.add("radius", patches.radius).add("overlap", overlap).add("placement", args.get("placement", "quads"));
+    json.add("patches", patches.numPatches()).add("grid_size", options.grid_size);
+    json.add("quad_length", options.quad_length);
+    json.add("radius", patches.radius).add("overlap", options.overlap).add("placement", args.getWord("placement"));
     json.add("observed_fraction", patches.observedFraction());
     json.add("units", "unit-cube").add("normalisation", normalisationJson(surface));
     if (!png.empty())
@@ -81,8 +75,8 @@ int runPatches(const std::vector<std::string>& raw)
     std::cout << json.str() << '\n';
   } else if (!quiet) {
     std::printf("%zu patches (%d×%d, side %.4g in unit-cube units, %.1f %% of bins observed) -> %s\n",
-                patches.numPatches(), grid_size, grid_size, quad_length, 100.0 * patches.observedFraction(),
-                output.c_str());
+                patches.numPatches(), options.grid_size, options.grid_size, options.quad_length,
+                100.0 * patches.observedFraction(), output.c_str());
   }
   return 0;
 }

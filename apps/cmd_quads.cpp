@@ -11,7 +11,6 @@
 
 #include <array>
 #include <iostream>
-#include <limits>
 #include <sstream>
 
 namespace pcl {
@@ -46,21 +45,16 @@ void writeFrames(const std::string& path, const UnitCubeNormalization& normaliza
 
 int runQuads(const std::vector<std::string>& raw)
 {
-  const Arguments args(raw, commandSpec("quads"));
-  args.expectUsage();
-  applyCommonOptions(args);
+  const Arguments args = readCommandLine(raw, commandSpec("quads"));
   const std::string input = args.positionals()[0], output = args.get("output");
-  const bool quiet = args.has("quiet") || args.has("json");
+  const bool quiet = args.quiet();
   PatchLayoutParameters parameters;
-  parameters.quad_length = args.getDouble("quad-length", 0.03, 1e-3, 0.5);
-  parameters.overlap = static_cast<int>(args.getInt("overlap", 1, 0, 16));
-  parameters.smoothing_iterations = static_cast<int>(args.getInt("smoothing-iterations", 30, 0, 10000));
-  const std::string smoothing = args.get("smoothing", "laplacian");
-  if (smoothing == "taubin")
-    parameters.smoothing = CoarseMeshEstimation::Method::Taubin;
-  else if (smoothing != "laplacian")
-    throw UsageError("--smoothing must be laplacian or taubin");
-  parameters.seed = static_cast<std::uint64_t>(args.getInt("seed", 0, 0, std::numeric_limits<long long>::max()));
+  parameters.quad_length = args.getDouble("quad-length");
+  parameters.overlap = static_cast<int>(args.getInt("overlap"));
+  parameters.smoothing_iterations = static_cast<int>(args.getInt("smoothing-iterations"));
+  parameters.smoothing = args.getWord("smoothing") == "taubin" ? CoarseMeshEstimation::Method::Taubin
+                                                               : CoarseMeshEstimation::Method::Laplacian;
+  parameters.seed = static_cast<std::uint64_t>(args.getInt("seed"));
   for (const std::string& path : {output, args.get("frames"), args.get("coarse"), args.get("png")})
     checkOutputPath(path, input);
   // Check the output's format before the work, not after.

@@ -34,36 +34,32 @@ double codeThroughDictionary(const PatchDictionary& dictionary, int sparsity, Pa
   return rmse;
 }
 
-/** The command line of `reconstruct`, read and checked before any work. */
+/** The command line of `reconstruct`, read and checked before any work (defaults: the table's). */
 struct ReconstructLine {
   bool quiet = false;
   std::string input, output, rule_name;
-  int grid_size = 16, overlap = 1, sparsity = 20;
-  double quad_length = 0.03;
+  int grid_size = 0, overlap = 0, sparsity = 0;
+  double quad_length = 0.0;
   SeedPlacement placement = SeedPlacement::Quads;
-  std::size_t samples = 200000;
-  std::uint64_t seed = 1;
+  std::size_t samples = 0;
+  std::uint64_t seed = 0;
 };
 
 // 1. The command line.
 ReconstructLine readReconstructLine(const Arguments& args)
 {
-  args.expectUsage();
   ReconstructLine line;
-  line.rule_name = args.get("rule", "bilinear");
-  if (line.rule_name != "bilinear" && line.rule_name != "bin-centres")
-    throw UsageError("option --rule: '" + line.rule_name + "' is not bilinear or bin-centres");
+  line.rule_name = args.getWord("rule");
   if (args.has("sparsity") && !args.has("dict"))
     throw UsageError("--sparsity needs --dict");
-  applyCommonOptions(args);
-  line.quiet = args.has("quiet") || args.has("json");
-  line.grid_size = static_cast<int>(args.getInt("grid", 16, 2, 64));
-  line.quad_length = args.getDouble("quad-length", 0.03, 1e-3, 0.5);
-  line.overlap = static_cast<int>(args.getInt("overlap", 1, 0, 16));
-  line.placement = parseSeedPlacement(args.get("placement", "quads"));
-  line.sparsity = static_cast<int>(args.getInt("sparsity", 20, 1, 1024));
-  line.samples = static_cast<std::size_t>(args.getInt("samples", 200000, 1000, 100000000));
-  line.seed = static_cast<std::uint64_t>(args.getInt("seed", 1, 0, (1LL << 62)));
+  line.quiet = args.quiet();
+  line.grid_size = static_cast<int>(args.getInt("grid"));
+  line.quad_length = args.getDouble("quad-length");
+  line.overlap = static_cast<int>(args.getInt("overlap"));
+  line.placement = parseSeedPlacement(args.getWord("placement"));
+  line.sparsity = static_cast<int>(args.getInt("sparsity"));
+  line.samples = static_cast<std::size_t>(args.getInt("samples"));
+  line.seed = static_cast<std::uint64_t>(args.getInt("seed"));
   line.input = args.positionals()[0];
   line.output = args.get("output");
   checkOutputPath(line.output, line.input);
@@ -72,6 +68,16 @@ ReconstructLine readReconstructLine(const Arguments& args)
   if (args.has("dict") && sameFile(args.get("dict"), line.output))
     throw UsageError("--dict and -o name the same file");
   return line;
+}
+
+/** The result back in the input's units, written to -o (the timer's "save" stage). */
+void saveResult(const ReconstructLine& line, const UnitCubeNormalization& normalization, TriangleMesh& result,
+                StageTimer& timer)
+{
+  timer.start("save");
+  normalization.invert(result);
+  writeMesh(line.output, result);
+  timer.stop();
 }
 
 // 2. A cloud has no vertices to move: its output is the cloud of the patches' observed bins.
@@ -101,10 +107,7 @@ int reconstructCloud(const Arguments& args, const ReconstructLine& line, Triangl
   timer.start("eval");
   const PointSetDistance to_input = pointsToPointsDistance(result.vertices, reference.vertices);
   const PointSetDistance from_input = pointsToPointsDistance(reference.vertices, result.vertices);
-  timer.start("save");
-  normalization.invert(result);
-  writeMesh(line.output, result);
-  timer.stop();
+  saveResult(line, normalization, result, timer);
   if (args.has("json")) {
     JsonObject json;
     json.add("command", "reconstruct").add("input", line.input).add("output", line.output).add("input_kind", "cloud");
@@ -178,10 +181,7 @@ int reconstructMesh(const Arguments& args, const ReconstructLine& line, Triangle
   const PointSetDistance to_surface = pointsToSurfaceDistance(moved, reference);
   const SurfaceDistance distance = surfaceDistance(reference, result, line.samples, line.seed);
 
-  timer.start("save");
-  normalization.invert(result);
-  writeMesh(line.output, result);
-  timer.stop();
+  saveResult(line, normalization, result, timer);
 
   if (args.has("json")) {
     JsonObject json;
@@ -193,7 +193,7 @@ int reconstructMesh(const Arguments& args, const ReconstructLine& line, Triangle
       json.addNull("dictionary");
     json.add("vertices", reference.vertices.size()).add("faces", reference.faces.size());
     json.add("patches", patches.numPatches()).add("grid_size", line.grid_size).add("quad_length", line.quad_length);
-    json.add("overlap", line.overlap).add("placement", args.get("placement", "quads"))
+    json.add("overlap", line.overlap).add("placement", args.getWord("placement"))
         .add("observed_fraction", patches.observedFraction());
     json.add("vertices_covered", report.vertices_covered).add("vertices_from_ring", report.vertices_from_ring);
     json.add("vertices_unchanged", report.vertices_unchanged).add("mean_estimates", report.mean_estimates);
@@ -215,7 +215,7 @@ int reconstructMesh(const Arguments& args, const ReconstructLine& line, Triangle
 
 int runReconstruct(const std::vector<std::string>& raw)
 {
-  const Arguments args(raw, commandSpec("reconstruct"));
+  const Arguments args = readCommandLine(raw, commandSpec("reconstruct"));
   const ReconstructLine line = readReconstructLine(args);
 
   StageTimer timer(line.quiet);

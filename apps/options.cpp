@@ -1,38 +1,111 @@
-// The command-line table (see options.h) and the help texts made from it.
+// The command-line table (see options.h). An option several commands take is made by one function
+// below (quadLength, overlap, grid, ...), so that its spelling, argument and range are written once.
 #include "options.h"
 
-#include <algorithm>
-#include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 namespace pcl {
 namespace patchdict {
 namespace cli {
 
+OptionSpec OptionSpec::noted(const std::string& text) const
+{
+  OptionSpec option = *this;
+  option.note = text;
+  return option;
+}
+
+OptionSpec OptionSpec::differing(const std::string& why) const
+{
+  OptionSpec option = *this;
+  option.differs = why;
+  return option;
+}
+
 namespace {
+
+constexpr double kUnbounded = std::numeric_limits<double>::infinity();
 
 OptionSpec flag(const std::string& name, const std::string& help)
 {
-  return OptionSpec{name, "", "", help};
+  OptionSpec option;
+  option.name = name;
+  option.help = help;
+  return option;
 }
 
-OptionSpec value(const std::string& name, const std::string& argument, const std::string& fallback,
-                 const std::string& help)
+/** An option with a value and a typed default (computed() takes it away). */
+OptionSpec valued(const std::string& name, OptionKind kind, const std::string& argument, const std::string& help)
 {
-  return OptionSpec{name, argument, fallback, help};
+  OptionSpec option = flag(name, help);
+  option.kind = kind;
+  option.argument = argument;
+  option.has_default = true;
+  return option;
+}
+
+/** A file name or text; without a default unless `fallback` is given. */
+OptionSpec text(const std::string& name, const std::string& argument, const std::string& help,
+                const std::string& fallback = "")
+{
+  OptionSpec option = valued(name, OptionKind::Text, argument, help);
+  option.has_default = !fallback.empty();
+  option.text_default = fallback;
+  return option;
 }
 
 OptionSpec required(const std::string& name, const std::string& argument, const std::string& help)
 {
-  OptionSpec option{name, argument, "", help};
+  OptionSpec option = text(name, argument, help);
   option.required = true;
   return option;
 }
 
-OptionSpec hidden(const std::string& name, const std::string& argument)
+OptionSpec hidden(OptionSpec option)
 {
-  OptionSpec option{name, argument, "", ""};
   option.hidden = true;
+  option.has_default = false;
+  option.help.clear();
+  return option;
+}
+
+OptionSpec integer(const std::string& name, const std::string& argument, long long fallback, long long min_value,
+                   long long max_value, const std::string& help)
+{
+  OptionSpec option = valued(name, OptionKind::Integer, argument, help);
+  option.int_default = fallback;
+  std::tie(option.int_min, option.int_max) = std::make_pair(min_value, max_value);
+  return option;
+}
+
+OptionSpec real(const std::string& name, const std::string& argument, double fallback, double min_value,
+                double max_value, const std::string& help)
+{
+  OptionSpec option = valued(name, OptionKind::Real, argument, help);
+  option.real_default = fallback;
+  std::tie(option.real_min, option.real_max) = std::make_pair(min_value, max_value);
+  return option;
+}
+
+OptionSpec word(const std::string& name, const std::vector<std::string>& words, const std::string& fallback,
+                const std::string& help)
+{
+  std::string argument;
+  for (const std::string& w : words)
+    argument += (argument.empty() ? "" : "|") + w;
+  OptionSpec option = valued(name, OptionKind::Word, argument, help);
+  option.words = words;
+  option.has_default = !fallback.empty();
+  option.text_default = fallback;
+  return option;
+}
+
+/** No typed default: the command computes it, as `how` says (or, with "", the option is off). */
+OptionSpec computed(OptionSpec option, const std::string& how)
+{
+  option.has_default = false;
+  option.note = how;
   return option;
 }
 
@@ -42,149 +115,221 @@ std::vector<OptionSpec> operator+(std::vector<OptionSpec> a, const std::vector<O
   return a;
 }
 
+// Options that several commands take: one spelling, one argument, one range each.
+
+OptionSpec quadLength(double fallback, const std::string& help = "quad edge length, unit-cube units")
+{
+  return real("quad-length", "L", fallback, 1e-3, 0.5, help);
+}
+
+OptionSpec overlap(long long fallback, const std::string& help = "4K extra seeds per quad")
+{
+  return integer("overlap", "K", fallback, 0, 16, help);
+}
+
+/** Patch sets of a whole surface and the dictionaries learned from them: at most 64 × 64 bins. */
+OptionSpec grid(long long fallback, const std::string& help = "bins per patch side")
+{
+  return integer("grid", "N", fallback, 2, 64, help);
+}
+
+OptionSpec sparsity(long long fallback, const std::string& help = "atoms per sparse code at most")
+{
+  return integer("sparsity", "S", fallback, 1, 1024, help);
+}
+
+OptionSpec atoms(long long fallback, const std::string& help)
+{
+  return integer("atoms", "K", fallback, 1, 65536, help);
+}
+
+OptionSpec samples(const std::string& help)
+{
+  return integer("samples", "N", 200000, 1000, 100000000, help);
+}
+
+OptionSpec smoothingIterations(long long fallback, const std::string& help)
+{
+  return integer("smoothing-iterations", "N", fallback, 0, 10000, help);
+}
+
+OptionSpec placement(const std::string& help)
+{
+  return word("placement", {"quads", "random"}, "quads", help);
+}
+
+OptionSpec patchScale(double fallback, double min_value, double max_value)
+{
+  return real("patch-scale", "F", fallback, min_value, max_value, "patch side, × the quad length");
+}
+
+OptionSpec seed(long long fallback)
+{
+  return integer("seed", "X", fallback, 0, 1LL << 62, "seed of every random choice");
+}
+
+OptionSpec noise(double max_value, const std::string& help)
+{
+  return real("noise", "S", 0.0, 0.0, max_value, help).noted("estimated");
+}
+
+OptionSpec dictionary(const std::string& note)
+{
+  return text("dict", "DICT.pdd", "correct by patches coded with this dictionary").noted(note);
+}
+
 /** What the patch stage of a mesh repair reads (repair_options.cpp); defaults by mode. */
 struct PatchDefaults {
-  const char* quad_factor;
-  const char* sparsity;
-  const char* mu;  ///< nullptr: the mode has no --mu
-  const char* fit_scale;
+  double quad_factor;
+  long long sparsity;
+  double mu;  ///< < 0: the mode has no --mu
+  double fit_scale;
 };
 
 std::vector<OptionSpec> patchStageOptions(const PatchDefaults& d)
 {
+  OptionSpec quad_length = quadLength(0.0, "quad length in unit-cube units; 0: --quad-factor × the mean edge")
+                               .noted("automatic")
+                               .differing("0 asks for the automatic length");
+  quad_length.real_min = 0.0;
   std::vector<OptionSpec> options{
-      value("quad-length", "L", "0 (automatic)", "quad length in unit-cube units; 0: --quad-factor × the mean edge"),
-      value("quad-factor", "C", d.quad_factor, "automatic quad length, in mean edge lengths"),
-      value("sparsity", "S", d.sparsity, "atoms per sparse code at most")};
-  if (d.mu)
-    options.push_back(value("mu", "M", d.mu, "weight of the patch constraints in the solve"));
+      quad_length,
+      real("quad-factor", "C", d.quad_factor, 0.1, 1000.0, "automatic quad length, in mean edge lengths"),
+      sparsity(d.sparsity)};
+  if (d.mu >= 0.0)
+    options.push_back(real("mu", "M", d.mu, 0.0, 1e12, "weight of the patch constraints in the solve"));
   return options + std::vector<OptionSpec>{
-      value("overlap", "K", "1", "4K extra seeds per quad"),
-      value("atoms", "K", "100", "atoms of the self-similar dictionary (not with --dict)"),
-      value("grid", "N", "the dictionary's (16 self-similar)", "bins per patch side, 2-256; with --dict it must match"),
-      value("patch-scale", "F", "1", "patch side, × the quad length"),
-      value("centre-sigma", "S", "0.5", "constraint weight's Gaussian fall-off from the patch centre, × half the side"),
-      value("observed-power", "P", "1", "constraint weight ∝ (observed fraction of the patch)^P"),
-      value("fit-scale", "F", d.fit_scale, "constraint weight's tolerance of a poor sparse fit, × the mean edge"),
-      value("agreement-scale", "A", "0.1", "constraint weight's tolerance of disagreeing patches, × the mean edge"),
-      value("min-observed", "F", "0.2", "patches less observed than this fraction give no constraint"),
-      value("smoothing-iterations", "N", "30", "smoothing iterations of the coarse shape the quads are laid on")};
+      overlap(1),
+      atoms(100, "atoms of the self-similar dictionary (not with --dict)"),
+      computed(integer("grid", "N", 0, 2, 256, "bins per patch side; with --dict it must match"),
+               "the dictionary's (16 self-similar)")
+          .differing("it must match a given dictionary's, which a .pdd holds up to 256"),
+      patchScale(1.0, 0.05, 20.0),
+      real("centre-sigma", "S", 0.5, 0.0, 100.0,
+           "constraint weight's Gaussian fall-off from the patch centre, × half the side"),
+      real("observed-power", "P", 1.0, 0.0, 100.0, "constraint weight ∝ (observed fraction of the patch)^P"),
+      real("fit-scale", "F", d.fit_scale, 0.0, 1e6, "constraint weight's tolerance of a poor sparse fit, × the mean edge"),
+      real("agreement-scale", "A", 0.1, 0.0, 1e6,
+           "constraint weight's tolerance of disagreeing patches, × the mean edge"),
+      real("min-observed", "F", 0.2, 0.0, 1.0, "patches less observed than this fraction give no constraint"),
+      smoothingIterations(30, "smoothing iterations of the coarse shape the quads are laid on")};
 }
 
-std::vector<OptionSpec> reportOptions()
+/** The report options and the seed, after a mesh repair's patch-stage options. */
+std::vector<OptionSpec> meshRepairTail()
 {
-  return {value("report", "DIR", "", "write before/after pictures (and, with --ref, the error colouring) to DIR"),
-          value("ref", "REF", "", "the true surface, for the report's error colouring (needs --report)"),
-          value("error-scale", "E", "99th percentile", "distance coloured red in the report (needs --ref)")};
+  return {text("report", "DIR", "write before/after pictures (and, with --ref, the error colouring) to DIR"),
+          text("ref", "REF", "the true surface, for the report's error colouring (needs --report)"),
+          real("error-scale", "E", 0.0, 0.0, kUnbounded, "distance coloured red in the report (needs --ref)")
+              .noted("99th percentile"),
+          seed(0)};
 }
 
 std::vector<OptionSpec> cloudDenoisingOptions()
 {
-  return {value("noise", "S", "estimated", "noise σ, in units of the largest bounding-box side"),
-          value("bandwidth", "H", "by risk", "patch bandwidth, in units of the largest bounding-box side"),
+  const std::string units = "with --absolute, the cloud's own units";
+  return {noise(kUnbounded, "noise σ, in units of the largest bounding-box side").differing(units),
+          real("bandwidth", "H", 0.0, 0.0, kUnbounded, "patch bandwidth, in units of the largest bounding-box side")
+              .noted("by risk"),
           flag("absolute", "lengths in the cloud's own units, not the largest side's"),
           flag("no-outlier-filter", "no statistical outlier pre-filter"),
-          value("outlier-neighbours", "K", "50", "neighbours of the outlier pre-filter"),
-          value("outlier-std", "M", "1", "pre-filter threshold: mean + M standard deviations"),
-          value("residual-outliers", "F", "4", "points farther than F σ from their patch are removed"),
+          integer("outlier-neighbours", "K", 50, 1, 1000, "neighbours of the outlier pre-filter"),
+          real("outlier-std", "M", 1.0, 0.0, 1e6, "pre-filter threshold: mean + M standard deviations"),
+          real("residual-outliers", "F", 4.0, 0.0, 1e6, "points farther than F σ from their patch are removed"),
           flag("no-patches", "accepted: the cloud path's result is the geometric one"),
-          hidden("dict", "DICT.pdd")};
+          hidden(text("dict", "DICT.pdd", ""))};
 }
 
-/** The commands that make, score and code surfaces (demo ... decompress). */
-void addToolCommands(std::vector<CommandSpec>& table)
+/** The commands that make and score surfaces and patches (demo ... reconstruct). */
+void addSurfaceCommands(std::vector<CommandSpec>& table)
 {
   table.push_back({"demo", "", "", 0, 0,
                    "the main job: the bundled bunny and a generated relief damaged, repaired with and without patches",
-                   {value("output", "DIR", "pcl_patchdict_demo", "folder of the meshes and pictures"),
+                   {text("output", "DIR", "folder of the meshes and pictures", "pcl_patchdict_demo"),
                     flag("no-pictures", "meshes only")},
                    {{"out", "output"}}});
   table.push_back({"info", "", "IN", 1, 1, "statistics and hygiene report of a mesh or cloud", {}, {}});
   table.push_back({"eval", "", "REF OUT", 2, 2,
                    "vertex RMSE, symmetric surface distance, Hausdorff and PSNR of OUT against REF",
-                   {value("vertices", "IDX.txt", "all", "vertex RMSE over these vertices only (same vertex count)"),
-                    value("samples", "N", "200000", "surface samples per side, 1000-1e8"),
+                   {text("vertices", "IDX.txt", "vertex RMSE over these vertices only (same vertex count)").noted("all"),
+                    samples("surface samples per side"),
                     flag("absolute", "distances in the input's units, not the unit cube's")},
                    {}});
   table.push_back({"quads", "", "IN", 1, 1, "coarse shape, field-aligned quad mesh, and the seeds with their frames",
-                   {required("output", "QUADS.obj", "the quad mesh (.obj or .ply)"),
-                    value("quad-length", "L", "0.03", "quad edge length, unit-cube units"),
-                    value("overlap", "K", "1", "4K extra seeds per quad"),
-                    value("frames", "FRAMES.ply", "", "the seeds and their frames, as a PLY point set"),
-                    value("coarse", "COARSE.ply", "", "the coarse shape"),
-                    value("png", "PICTURE.png", "", "a picture of the quad mesh"),
-                    value("smoothing", "laplacian|taubin", "laplacian", "smoothing of the coarse shape"),
-                    value("smoothing-iterations", "N", "30", "its iterations")},
+                   {required("output", "QUADS.obj", "the quad mesh (.obj or .ply)"), quadLength(0.03), overlap(1),
+                    text("frames", "FRAMES.ply", "the seeds and their frames, as a PLY point set"),
+                    text("coarse", "COARSE.ply", "the coarse shape"),
+                    text("png", "PICTURE.png", "a picture of the quad mesh"),
+                    word("smoothing", {"laplacian", "taubin"}, "laplacian", "smoothing of the coarse shape"),
+                    smoothingIterations(30, "its iterations"), seed(0)},
                    {}});
   table.push_back({"patches", "", "IN", 1, 1, "height-map patch set (unit-cube units)",
                    {required("output", "PATCHES.pds", "the patch set"),
-                    value("png", "SHEET.png", "", "a contact sheet of the first 400 patches"),
-                    value("grid", "N", "16", "bins per patch side, 2-64"),
-                    value("quad-length", "L", "0.03", "quad edge length, unit-cube units"),
-                    value("overlap", "K", "1", "4K extra seeds per quad"),
-                    value("placement", "quads|random", "quads", "where the seeds go")},
+                    text("png", "SHEET.png", "a contact sheet of the first 400 patches"), grid(16), quadLength(0.03),
+                    overlap(1), placement("where the seeds go")},
                    {}});
   table.push_back(
       {"learn", "", "INPUT...", 1, 1000000,
        "learn a patch dictionary from .pds files, meshes, clouds, folders, globs or @lists (one input: K-SVD, "
        "local; several: online, streamed, resumable)",
        {required("output", "DICT.pdd", "the dictionary"),
-        value("method", "ksvd|online", "ksvd (one input), online (several)", "learning method"),
-        value("atoms", "K", "100", "atoms"), value("sparsity", "S", "8", "atoms per sparse code at most"),
-        value("iterations", "T", "20 (ksvd), 3 (online)", "K-SVD iterations, or passes over the inputs"),
-        value("batch", "B", "512", "mini-batch size (online)"),
-        value("buffer", "N", "20000", "patches of the shuffle buffer (online)"),
-        value("grid", "N", "16 (or the first input's)", "bins per patch side, 2-64"),
-        value("quad-length", "L", "0.03", "quad edge length of surface inputs, unit-cube units"),
-        value("overlap", "K", "1", "4K extra seeds per quad (surface inputs)"),
+        computed(word("method", {"ksvd", "online"}, "", "learning method"), "ksvd (one input), online (several)"),
+        atoms(100, "atoms"), sparsity(8),
+        computed(integer("iterations", "T", 0, 1, 100000, "K-SVD iterations, or passes over the inputs"),
+                 "20 (ksvd), 3 (online)"),
+        integer("batch", "B", 512, 1, 1 << 20, "mini-batch size (online)"),
+        integer("buffer", "N", 20000, 1, 1LL << 32, "patches of the shuffle buffer (online)"),
+        grid(16).noted("or the first input's"), quadLength(0.03, "quad edge length of surface inputs, unit-cube units"),
+        overlap(1, "4K extra seeds per quad (surface inputs)"),
         flag("skip-bad", "skip unreadable inputs (each named on stderr) instead of failing"),
-        value("checkpoint", "FILE.pdk", "", "save the learner's state there (online)"),
-        value("checkpoint-every", "N", "10", "inputs between checkpoints (needs --checkpoint)"),
-        value("stop-after", "N", "", "stop after N inputs, resumable (needs --checkpoint)"),
-        value("resume", "FILE.pdk", "", "continue from a checkpoint (online)"),
+        text("checkpoint", "FILE.pdk", "save the learner's state there (online)"),
+        integer("checkpoint-every", "N", 10, 1, 1LL << 40, "inputs between checkpoints (needs --checkpoint)"),
+        computed(integer("stop-after", "N", 0, 1, 1LL << 40, "stop after N inputs, resumable (needs --checkpoint)"), ""),
+        text("resume", "FILE.pdk", "continue from a checkpoint (online)"),
         flag("remove-mean", "remove each patch's mean before learning (ksvd)"),
-        value("png", "ATOMS.png", "", "a picture of the atoms")},
+        text("png", "ATOMS.png", "a picture of the atoms")},
        {}});
   table.push_back({"reconstruct", "", "IN", 1, 1,
                    "surface -> patches -> surface round trip (identity, or through a dictionary), scored",
                    {required("output", "OUT", "the reconstructed mesh (a cloud's: the patches' points)"),
-                    value("dict", "DICT.pdd", "", "code the patches through this dictionary"),
-                    value("sparsity", "S", "20", "atoms per code (needs --dict)"),
-                    value("rule", "bilinear|bin-centres", "bilinear", "how a vertex reads a patch (meshes)"),
-                    value("grid", "N", "16", "bins per patch side, 2-64"),
-                    value("quad-length", "L", "0.03", "quad edge length, unit-cube units"),
-                    value("overlap", "K", "1", "4K extra seeds per quad"),
-                    value("placement", "quads|random", "quads", "where the seeds go (clouds: quads)"),
-                    value("samples", "N", "200000", "surface samples per side of the score (meshes)")},
+                    text("dict", "DICT.pdd", "code the patches through this dictionary"),
+                    sparsity(20, "atoms per code (needs --dict)"),
+                    word("rule", {"bilinear", "bin-centres"}, "bilinear", "how a vertex reads a patch (meshes)"),
+                    grid(16), quadLength(0.03), overlap(1), placement("where the seeds go (clouds: quads)"),
+                    samples("surface samples per side of the score (meshes)")},
                    {}});
+}
+
+/** The codec: compress and decompress. */
+void addCodecCommands(std::vector<CommandSpec>& table)
+{
   table.push_back(
       {"compress", "", "IN", 1, 1, "compress as quad mesh + sparse codes (.pdc); reports bytes per part and PSNR",
        {required("dict", "DICT.pdd", "the dictionary (the decoder needs the same)"),
         required("output", "OUT.pdc", "the compressed file"),
-        value("quad-length", "L", "0.05", "quad edge length, unit-cube units"),
-        value("patch-scale", "F", "1.25", "patch side, × the quad length, 0.5-4"),
-        value("overlap", "K", "0", "4K extra seeds per quad"),
-        value("sparsity", "S", "20", "non-zero coefficients per patch at most"),
-        value("coefficient-bits", "B", "6", "bits of a quantised coefficient, 2-16"),
-        value("position-bits", "B", "10", "bits of a quad-mesh vertex coordinate, 4-24"),
-        value("subdivision", "N", "0 (grid / 2)", "splits per quad side of the decoded mesh"),
-        value("smoothing-iterations", "N", "5", "smoothing iterations of the coarse shape"),
+        real("quad-length", "L", 0.05, 1e-3, 1.0, "quad edge length, unit-cube units")
+            .differing("the .pdc format holds quad lengths up to 1"),
+        patchScale(1.25, 0.5, 4.0).differing("the .pdc format holds patch scales of 0.5 to 4"), overlap(0),
+        sparsity(20, "non-zero coefficients per patch at most"),
+        integer("coefficient-bits", "B", 6, 2, 16, "bits of a quantised coefficient"),
+        integer("position-bits", "B", 10, 4, 24, "bits of a quad-mesh vertex coordinate"),
+        integer("subdivision", "N", 0, 0, 256, "splits per quad side of the decoded mesh").noted("grid / 2"),
+        smoothingIterations(5, "smoothing iterations of the coarse shape"),
         flag("keep-connectivity", "store the input's connectivity and every vertex's place"),
-        value("location-bits", "B", "10", "precision of a vertex's place (needs --keep-connectivity)"),
+        integer("location-bits", "B", 10, 4, 16, "precision of a vertex's place (needs --keep-connectivity)"),
         flag("no-projection", "leave the quad vertices off the surface"),
-        value("coverage-tolerance", "T", "0.1", "coverage patches where the decoded surface misses the input"),
-        value("coverage-budget", "F", "1", "coverage patches at most, × the quad patches"),
-        value("target-error", "E", "0", "per-patch error target, × the quad length (0: --sparsity atoms each)"),
-        value("atom-cost", "C", "0", "rate-distortion weight of an atom (0: off)"),
-        value("samples", "N", "200000", "surface samples per side of the PSNR"),
-        flag("no-eval", "do not decode and score the result")},
+        real("coverage-tolerance", "T", 0.1, 0.0, 10.0, "coverage patches where the decoded surface misses the input"),
+        real("coverage-budget", "F", 1.0, 0.0, 10.0, "coverage patches at most, × the quad patches"),
+        real("target-error", "E", 0.0, 0.0, 1.0, "per-patch error target, × the quad length (0: --sparsity atoms each)"),
+        real("atom-cost", "C", 0.0, 0.0, 10.0, "rate-distortion weight of an atom (0: off)"),
+        samples("surface samples per side of the PSNR"), flag("no-eval", "do not decode and score the result")},
        {{"coefficients", "sparsity"}}});
   table.push_back({"decompress", "", "IN.pdc", 1, 1, "decode a .pdc file (with the dictionary it was encoded with)",
                    {required("dict", "DICT.pdd", "the dictionary it was encoded with"),
                     required("output", "OUT", "the decoded mesh"),
-                    value("ref", "REF", "", "score the decoded mesh against this surface"),
-                    value("samples", "N", "200000", "surface samples per side of the score (needs --ref)"),
-                    value("png", "PICTURE.png", "", "a picture, coverage patches in orange")},
+                    text("ref", "REF", "score the decoded mesh against this surface"),
+                    samples("surface samples per side of the score (needs --ref)"),
+                    text("png", "PICTURE.png", "a picture, coverage patches in orange")},
                    {}});
 }
 
@@ -195,18 +340,18 @@ void addRepairCommands(std::vector<CommandSpec>& table)
       {"denoise", "", "IN", 1, 1,
        "denoise: Taubin smoothing (iterations by the discrepancy principle); with --dict or --self-similar, "
        "corrected by patches",
-       std::vector<OptionSpec>{required("output", "OUT", "the denoised mesh (vertex order kept: .ply, .obj, .off)"),
-                               value("dict", "DICT.pdd", "", "correct by patches coded with this dictionary"),
-                               flag("self-similar", "correct by patches of a dictionary learned from the input"),
-                               flag("no-patches", "the Taubin base alone (the default without --dict)"),
-                               value("noise", "S", "estimated", "noise σ, unit-cube units"),
-                               value("noise-edges", "K", "", "noise σ, in mean edge lengths"),
-                               value("base-iterations", "T", "by the discrepancy principle", "Taubin iterations"),
-                               value("discrepancy", "D", "0.95", "stop the base when it moved D × σ (RMS)"),
-                               value("error-factor", "E", "0.7", "sparse-code error target, × σ per bin (patches)"),
-                               value("fidelity", "A", "0.05", "weight of staying at the base (patches)"),
-                               hidden("mu", "M")} +
-           patchStageOptions({"6", "20", nullptr, "0.1"}) + reportOptions(),
+       std::vector<OptionSpec>{
+           required("output", "OUT", "the denoised mesh (vertex order kept: .ply, .obj, .off)"), dictionary(""),
+           flag("self-similar", "correct by patches of a dictionary learned from the input"),
+           flag("no-patches", "the Taubin base alone (the default without --dict)"),
+           noise(1.0, "noise σ, unit-cube units"),
+           computed(real("noise-edges", "K", 0.0, 0.0, 100.0, "noise σ, in mean edge lengths"), ""),
+           integer("base-iterations", "T", -1, -1, 10000, "Taubin iterations").noted("by the discrepancy principle"),
+           real("discrepancy", "D", 0.95, 0.0, 100.0, "stop the base when it moved D × σ (RMS)"),
+           real("error-factor", "E", 0.7, 0.0, 100.0, "sparse-code error target, × σ per bin (patches)"),
+           real("fidelity", "A", 0.05, 1e-9, 1e9, "weight of staying at the base (patches)"),
+           hidden(real("mu", "M", 0.0, 0.0, 1e12, ""))} +
+           patchStageOptions({6.0, 20, -1.0, 0.1}) + meshRepairTail(),
        {}});
   table.push_back({"denoise", "cloud", "CLOUD.pcd|CLOUD.ply", 1, 1,
                    "a point cloud: statistical pre-filter, local quadric patches, residual outliers",
@@ -217,34 +362,39 @@ void addRepairCommands(std::vector<CommandSpec>& table)
                    std::vector<OptionSpec>{
                        required("missing", "IDX.txt", "the missing vertices' indices"),
                        required("output", "OUT", "the repaired mesh (vertex order kept: .ply, .obj, .off)"),
-                       value("dict", "DICT.pdd", "self-similar", "correct by patches coded with this dictionary"),
-                       flag("no-patches", "the bi-Laplacian base alone")} +
-                       patchStageOptions({"3", "8", "0.03", "0.1"}) + reportOptions(),
+                       dictionary("self-similar"), flag("no-patches", "the bi-Laplacian base alone")} +
+                       patchStageOptions({3.0, 8, 0.03, 0.1}) + meshRepairTail(),
                    {}});
   table.push_back(
       {"fill-holes", "", "IN", 1, 1, "fill holes: Liepa's triangulate-refine-fair, new vertices corrected by patches",
        std::vector<OptionSpec>{
-           required("output", "OUT", "the filled mesh (input vertices first, in order)"),
-           value("dict", "DICT.pdd", "self-similar", "correct by patches coded with this dictionary"),
+           required("output", "OUT", "the filled mesh (input vertices first, in order)"), dictionary("self-similar"),
            flag("no-patches", "Liepa's fill alone"),
-           value("max-hole-edges", "E", "0 (any)", "fill holes of at most E boundary edges"),
-           value("max-hole-diameter", "D", "any", "fill holes of at most this diameter, unit-cube units"),
+           integer("max-hole-edges", "E", 0, 0, 1LL << 40, "fill holes of at most E boundary edges").noted("any"),
+           computed(real("max-hole-diameter", "D", 0.0, 0.0, kUnbounded,
+                         "fill holes of at most this diameter, unit-cube units"),
+                    "any")
+               .differing("in unit-cube units (or, with --absolute, the input's); 0 fills none"),
            flag("absolute", "--max-hole-diameter in the input's units"),
-           value("surface", "auto|smooth|relief", "auto", "patch settings: measured, smooth or relief (patches)"),
-           value("hole-factor", "F", "0.6", "quad length at least F × the median hole diameter (patches)")} +
-           patchStageOptions({"3", "8", "0.1", "0.02"}) + reportOptions(),
+           word("surface", {"auto", "smooth", "relief"}, "auto", "patch settings: measured, smooth or relief (patches)"),
+           real("hole-factor", "F", 0.6, 0.0, 100.0, "quad length at least F × the median hole diameter (patches)")} +
+           patchStageOptions({3.0, 8, 0.1, 0.02}) + meshRepairTail(),
        {}});
+  OptionSpec cloud_diameter = computed(real("max-hole-diameter", "D", 0.0, 0.0, kUnbounded,
+                                            "fill holes of at most this diameter"),
+                                       "each fill's own")
+                                  .differing("in units of the largest side (or, with --absolute, the cloud's)");
+  cloud_diameter.above_min = true;
   table.push_back(
       {"fill-holes", "cloud", "CLOUD.pcd|CLOUD.ply", 1, 1,
        "a point cloud: depth image, height field or Poisson gaps, filled from their rims",
        std::vector<OptionSpec>{
-           required("output", "OUT.pcd|OUT.ply", "the filled cloud (a PCD keeps every field)"),
-           value("max-hole-diameter", "D", "each fill's own", "fill holes of at most this diameter"),
+           required("output", "OUT.pcd|OUT.ply", "the filled cloud (a PCD keeps every field)"), cloud_diameter,
            flag("denoise", "denoise as well"),
-           value("rim-width", "W", "0.3", "rim of a Poisson gap, × its radius, 0.05-10"),
-           value("max-hole-pixels", "N", "2000", "depth image: holes of at most N pixels"),
-           value("fit-ring", "N", "0", "depth image: pixels of the rim fitted"),
-           value("height-field", "auto|yes|no", "auto", "fill as a height field over the dominant plane")} +
+           real("rim-width", "W", 0.3, 0.05, 10.0, "rim of a Poisson gap, × its radius"),
+           integer("max-hole-pixels", "N", 2000, 1, 100000000, "depth image: holes of at most N pixels"),
+           integer("fit-ring", "N", 0, 0, 64, "depth image: pixels of the rim fitted"),
+           word("height-field", {"auto", "yes", "no"}, "auto", "fill as a height field over the dominant plane")} +
            cloudDenoisingOptions(),
        {}});
 }
@@ -252,34 +402,10 @@ void addRepairCommands(std::vector<CommandSpec>& table)
 std::vector<CommandSpec> makeTable()
 {
   std::vector<CommandSpec> table;
-  addToolCommands(table);
+  addSurfaceCommands(table);
+  addCodecCommands(table);
   addRepairCommands(table);
   return table;
-}
-
-std::string optionLabel(const OptionSpec& option)
-{
-  std::string label = (option.name == "output" ? "-o, --" : "--") + option.name;
-  if (!option.argument.empty())
-    label += " " + option.argument;
-  return label;
-}
-
-std::string markdownCell(std::string text)
-{
-  std::string out;
-  for (const char c : text)
-    out += c == '|' ? std::string("\\|") : std::string(1, c);
-  return out;
-}
-
-std::vector<const CommandSpec*> pathsOf(const std::string& name)
-{
-  std::vector<const CommandSpec*> paths;
-  for (const CommandSpec& spec : commandSpecs())
-    if (spec.name == name)
-      paths.push_back(&spec);
-  return paths;
 }
 
 }  // namespace
@@ -287,10 +413,8 @@ std::vector<const CommandSpec*> pathsOf(const std::string& name)
 const std::vector<OptionSpec>& commonOptions()
 {
   static const std::vector<OptionSpec> options{
-      value("threads", "T", "OpenMP's", "threads, 1-1024"),
-      value("seed", "X", "1 (0 in quads and the mesh repairs)", "seed of every random choice"),
-      flag("json", "one JSON object on stdout (no progress on stderr)"),
-      flag("quiet", "no progress on stderr")};
+      computed(integer("threads", "T", 0, 1, 1024, "threads"), "OpenMP's"), seed(1),
+      flag("json", "one JSON object on stdout (no progress on stderr)"), flag("quiet", "no progress on stderr")};
   return options;
 }
 
@@ -315,103 +439,6 @@ const OptionSpec* findOption(const CommandSpec& spec, const std::string& name)
       if (option.name == name)
         return &option;
   return nullptr;
-}
-
-std::string synopsis(const CommandSpec& spec)
-{
-  std::string text = "pcl_patchdict " + spec.name;
-  if (!spec.positionals.empty())
-    text += " " + spec.positionals;
-  for (const OptionSpec& option : spec.options)
-    if (option.required)
-      text += (option.name == "output" ? " -o " : " --" + option.name + " ") + option.argument;
-  return text + " [options]";
-}
-
-std::string commandHelp(const std::string& name)
-{
-  std::ostringstream out;
-  for (const CommandSpec* spec : pathsOf(name)) {
-    out << (spec->variant.empty() ? "usage: " : "\n   or: ") << synopsis(*spec) << "\n  " << spec->what << "\n\n"
-        << (spec->variant.empty() ? "options" : "options of the " + spec->variant + " path") << ":\n";
-    for (const OptionSpec& option : spec->options) {
-      if (option.hidden)
-        continue;
-      std::string label = optionLabel(option);
-      out << "  " << label << std::string(label.size() < 34 ? 34 - label.size() : 1, ' ') << option.help;
-      if (option.required)
-        out << " (required)";
-      else if (!option.fallback.empty())
-        out << " [" << option.fallback << "]";
-      out << '\n';
-    }
-    for (const auto& [old_name, new_name] : spec->deprecated)
-      out << "  --" << old_name << std::string(old_name.size() < 32 ? 32 - old_name.size() : 1, ' ')
-          << "deprecated spelling of --" << new_name << '\n';
-  }
-  out << "\ncommon options:";
-  for (const OptionSpec& option : commonOptions())
-    out << ' ' << optionLabel(option);
-  out << "\n";
-  return out.str();
-}
-
-std::string overviewHelp()
-{
-  std::ostringstream out;
-  out << "pcl_patchdict — repair and compress 3D surfaces with learned dictionaries of height-map patches\n\n"
-         "usage: pcl_patchdict COMMAND [ARGS] [OPTIONS]   (pcl_patchdict COMMAND --help: its options)\n\n"
-         "commands:\n";
-  for (const CommandSpec& spec : commandSpecs())
-    if (spec.variant.empty())
-      out << "  " << synopsis(spec) << "\n      " << spec.what << '\n';
-  out << "  pcl_patchdict help [COMMAND] [--markdown]\n      this text, a command's options, or all of them as "
-         "Markdown (docs/cli.md)\n\ncommon options:";
-  for (const OptionSpec& option : commonOptions())
-    out << ' ' << optionLabel(option);
-  out << "\nformats: PLY (ascii/binary), OBJ, OFF, STL meshes; PCD and face-less PLY clouds\n";
-  return out.str();
-}
-
-std::string markdownHelp()
-{
-  std::ostringstream out;
-  out << "# The command line\n\n"
-         "<!-- Generated by `pcl_patchdict help --markdown` from the option table in apps/options.cpp; the test\n"
-         "     Cli.DocsMatchTheOptionTable fails when this file differs from what the tool prints. -->\n\n"
-         "`pcl_patchdict COMMAND [ARGS] [OPTIONS]`; options may come before, between or after the positionals, "
-         "as `--name VALUE` or `--name=VALUE`. A malformed command line (an unknown option, a value out of range, "
-         "options that contradict each other or that the command would ignore) is one line on stderr and exit "
-         "code 2; bad input or a failed run, one line and exit code 1.\n\n"
-         "| command | what it does |\n|---|---|\n";
-  for (const CommandSpec& spec : commandSpecs())
-    if (spec.variant.empty())
-      out << "| [`" << spec.name << "`](#" << spec.name << ") | " << markdownCell(spec.what) << " |\n";
-  out << "\nEvery command also takes:\n\n| option | default | |\n|---|---|---|\n";
-  for (const OptionSpec& option : commonOptions())
-    out << "| `" << markdownCell(optionLabel(option)) << "` | " << markdownCell(option.fallback) << " | "
-        << markdownCell(option.help) << " |\n";
-  for (const CommandSpec& spec : commandSpecs()) {
-    if (spec.variant.empty())
-      out << "\n## " << spec.name << "\n";
-    else
-      out << "\n### " << spec.name << " on a " << spec.variant << "\n";
-    out << "\n`" << synopsis(spec) << "`\n\n" << spec.what << "\n";
-    bool any = false;
-    for (const OptionSpec& option : spec.options) {
-      if (option.hidden)
-        continue;
-      if (!any)
-        out << "\n| option | default | |\n|---|---|---|\n";
-      any = true;
-      out << "| `" << markdownCell(optionLabel(option)) << "` | "
-          << (option.required ? std::string("required") : markdownCell(option.fallback)) << " | "
-          << markdownCell(option.help) << " |\n";
-    }
-    for (const auto& [old_name, new_name] : spec.deprecated)
-      out << "\n`--" << old_name << "` is still accepted as a deprecated spelling of `--" << new_name << "`.\n";
-  }
-  return out.str();
 }
 
 }  // namespace cli

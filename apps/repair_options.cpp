@@ -1,5 +1,6 @@
 // Shared options and reporting of the repair subcommands (see repair_options.h).
 #include "repair_options.h"
+#include "cloud_input.h"
 #include "repair_report.h"
 
 #include <algorithm>
@@ -24,13 +25,17 @@ void refusePatchOptions(const Arguments& args, const std::string& why)
     args.refuse(name, "tunes the patch stage, which " + why);
 }
 
+bool takesCloudPath(const std::vector<std::string>& raw, const std::string& command)
+{
+  const Arguments probe(raw, {&commandSpec(command), &commandSpec(command, "cloud")});
+  return probe.positionals().size() == 1 && isCloudFile(probe.positionals()[0]);
+}
+
 RepairCommandLine parseRepairCommand(const std::vector<std::string>& raw, const CommandSpec& spec,
                                      bool keeps_vertex_order)
 {
-  RepairCommandLine line{Arguments(raw, spec), false, "", ""};
-  line.args.expectUsage();
-  applyCommonOptions(line.args);
-  line.quiet = line.args.has("quiet") || line.args.has("json");
+  RepairCommandLine line{readCommandLine(raw, spec), false, "", ""};
+  line.quiet = line.args.quiet();
   line.in_path = line.args.positionals()[0];
   line.out_path = line.args.get("output");
   checkRepairOutput(line.out_path, line.in_path, keeps_vertex_order);
@@ -55,8 +60,9 @@ TriangleMesh loadRepairMesh(const std::string& path, bool quiet, const std::stri
   return mesh;
 }
 
-void readRepairOptions(const Arguments& args, SparsePatchInpainter::Parameters& parameters)
+SparsePatchInpainter::Parameters readRepairOptions(const Arguments& args, SparsePatchInpainter::Mode mode)
 {
+  SparsePatchInpainter::Parameters parameters = SparsePatchInpainter::defaultParameters(mode);
   if (args.has("dict") && args.has("no-patches"))
     throw UsageError("--dict and --no-patches exclude each other");
   if (args.has("ref") && !args.has("report"))
@@ -66,29 +72,48 @@ void readRepairOptions(const Arguments& args, SparsePatchInpainter::Parameters& 
     refusePatchOptions(args, "--no-patches turns off");
   if (args.has("dict"))
     args.refuse("atoms", "sizes a self-similar dictionary; --dict brings its own atoms");
-  parameters.quad_length = args.getDouble("quad-length", 0.0, 0.0, 0.5);
-  parameters.quad_length_factor = args.getDouble("quad-factor", parameters.quad_length_factor, 0.1, 1000.0);
-  parameters.sparsity = static_cast<int>(args.getInt("sparsity", parameters.sparsity, 1, 1024));
-  parameters.constraint_weight = args.getDouble("mu", parameters.constraint_weight, 0.0, 1e12);
-  parameters.overlap = static_cast<int>(args.getInt("overlap", parameters.overlap, 0, 8));
-  parameters.smoothing_iterations =
-      static_cast<int>(args.getInt("smoothing-iterations", parameters.smoothing_iterations, 0, 10000));
-  parameters.self_similar_atoms = static_cast<int>(args.getInt("atoms", parameters.self_similar_atoms, 1, 65536));
-  parameters.grid_size = static_cast<int>(args.getInt("grid", 0, 2, 256));
-  parameters.patch_scale = args.getDouble("patch-scale", parameters.patch_scale, 0.05, 20.0);
-  parameters.centre_sigma = args.getDouble("centre-sigma", parameters.centre_sigma, 0.0, 100.0);
-  parameters.observed_power = args.getDouble("observed-power", parameters.observed_power, 0.0, 100.0);
-  parameters.fit_scale = args.getDouble("fit-scale", parameters.fit_scale, 0.0, 1e6);
-  parameters.agreement_scale = args.getDouble("agreement-scale", parameters.agreement_scale, 0.0, 1e6);
-  parameters.min_observed_fraction = args.getDouble("min-observed", parameters.min_observed_fraction, 0.0, 1.0);
-  parameters.seed = static_cast<std::uint64_t>(args.getInt("seed", 0, 0, (1LL << 62)));
+  parameters.quad_length = args.getDouble("quad-length");
+  parameters.quad_length_factor = args.getDouble("quad-factor");
+  parameters.sparsity = static_cast<int>(args.getInt("sparsity"));
+  if (args.takes("mu"))  // denoise has none (its weight is --fidelity)
+    parameters.constraint_weight = args.getDouble("mu");
+  parameters.overlap = static_cast<int>(args.getInt("overlap"));
+  parameters.smoothing_iterations = static_cast<int>(args.getInt("smoothing-iterations"));
+  parameters.self_similar_atoms = static_cast<int>(args.getInt("atoms"));
+  parameters.grid_size = static_cast<int>(args.getInt("grid", parameters.grid_size));  // 0: the dictionary's
+  parameters.patch_scale = args.getDouble("patch-scale");
+  parameters.centre_sigma = args.getDouble("centre-sigma");
+  parameters.observed_power = args.getDouble("observed-power");
+  parameters.fit_scale = args.getDouble("fit-scale");
+  parameters.agreement_scale = args.getDouble("agreement-scale");
+  parameters.min_observed_fraction = args.getDouble("min-observed");
+  parameters.seed = static_cast<std::uint64_t>(args.getInt("seed"));
+  return parameters;
 }
 
-PatchDictionary::ConstPtr loadRepairDictionary(const Arguments& args, int grid_size)
+SparsePatchInpainter::Report runRepair(SparsePatchInpainter& inpainter, const TriangleMesh& mesh,
+                                       const PatchDictionary::ConstPtr& dictionary, bool use_patches,
+                                       const SparsePatchInpainter::Parameters& parameters, TriangleMesh& out)
 {
-  if (!args.has("dict"))
-    return nullptr;
-  return PatchDictionary::load(args.get("dict"), grid_size);
+  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
+  inpainter.setDictionary(dictionary);
+  inpainter.setUsePatches(use_patches);
+  inpainter.setParameters(parameters);
+  SparsePatchInpainter::Report report;
+  inpainter.process(out, &report);
+  return report;
+}
+
+RepairInputs loadRepairInputs(const RepairCommandLine& line, int grid_size, const std::string& command,
+                              StageTimer& timer)
+{
+  RepairInputs inputs;
+  inputs.report = prepareReport(line.args);
+  timer.start("load");
+  inputs.mesh = loadRepairMesh(line.in_path, line.quiet, command);
+  if (line.args.has("dict"))
+    inputs.dictionary = PatchDictionary::load(line.args.get("dict"), grid_size);
+  return inputs;
 }
 
 ReportRequest prepareReport(const Arguments& args)
@@ -96,7 +121,7 @@ ReportRequest prepareReport(const Arguments& args)
   ReportRequest request;
   if (!args.has("report"))
     return request;
-  request.error_scale = args.getDouble("error-scale", 0.0, 0.0, 1e300);
+  request.error_scale = args.getDouble("error-scale");
   if (args.has("ref")) {
     request.reference = loadMesh(args.get("ref"), true);
     if (request.reference.faces.empty())

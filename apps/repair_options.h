@@ -21,6 +21,10 @@ const std::vector<std::string>& patchStageOptionNames();
 /** UsageError "--X tunes the patch stage, which `why`" for the first such option given. */
 void refusePatchOptions(const Arguments& args, const std::string& why);
 
+/** True when the command line (read with the options of both paths of `command`) names one point
+  * cloud (.pcd, face-less .ply): the command takes its cloud path, with its own options. */
+bool takesCloudPath(const std::vector<std::string>& raw, const std::string& command);
+
 /** The command line of a mesh repair (inpaint, fill-holes, denoise), read with `spec`'s table:
   * IN, -o OUT; --threads applied, the output checked (checkRepairOutput). */
 struct RepairCommandLine {
@@ -35,10 +39,15 @@ RepairCommandLine parseRepairCommand(const std::vector<std::string>& raw, const 
 void checkRepairOutput(const std::string& out_path, const std::string& in_path, bool keeps_vertex_order);
 /** loadMesh, and an Error naming `command` when the file has no faces. */
 TriangleMesh loadRepairMesh(const std::string& path, bool quiet, const std::string& command);
-/** Reads those options into `parameters` (whose values are the defaults); UsageErrors: --dict with
-  * --no-patches, a patch-stage option with --no-patches, --atoms with --dict, --ref without
-  * --report, --error-scale without --ref. */
-void readRepairOptions(const Arguments& args, SparsePatchInpainter::Parameters& parameters);
+/** `mode`'s parameters (defaultParameters) with the options of the command's table read into them;
+  * UsageErrors: --dict with --no-patches, a patch-stage option with --no-patches, --atoms with
+  * --dict, --ref without --report, --error-scale without --ref. */
+SparsePatchInpainter::Parameters readRepairOptions(const Arguments& args, SparsePatchInpainter::Mode mode);
+/** Runs `inpainter` (its mode's own inputs already set) on `mesh` with the dictionary (null:
+  * self-similar, unless !use_patches) and `parameters`; its report. */
+SparsePatchInpainter::Report runRepair(SparsePatchInpainter& inpainter, const TriangleMesh& mesh,
+                                       const PatchDictionary::ConstPtr& dictionary, bool use_patches,
+                                       const SparsePatchInpainter::Parameters& parameters, TriangleMesh& out);
 
 /** What --report DIR [--ref REF [--error-scale E]] asks for. */
 struct ReportRequest {
@@ -51,8 +60,16 @@ struct ReportRequest {
   * parsed and before any work, so that a report that cannot be made fails the command before its
   * output exists, and a command-line error leaves no folder behind. */
 ReportRequest prepareReport(const Arguments& args);
-/** --dict D (checked against the grid of --grid, `grid_size`; 0: any), or null. */
-PatchDictionary::ConstPtr loadRepairDictionary(const Arguments& args, int grid_size);
+/** What a mesh repair reads before its work. */
+struct RepairInputs {
+  ReportRequest report;
+  TriangleMesh mesh;
+  PatchDictionary::ConstPtr dictionary;  ///< --dict's, or null
+};
+/** prepareReport, then (the timer's "load" stage) the mesh (loadRepairMesh) and --dict D, checked
+  * against the grid of --grid, `grid_size` (0: any). */
+RepairInputs loadRepairInputs(const RepairCommandLine& line, int grid_size, const std::string& command,
+                              StageTimer& timer);
 /** The pictures (and with a reference the error colouring, red at --error-scale, default the 99th
   * percentile) of repair_report.h when a report was asked for; an empty object otherwise. */
 JsonObject reportIfAsked(const ReportRequest& request, const TriangleMesh& before, const TriangleMesh& after,
