@@ -15,7 +15,7 @@
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/eval/shapes.h>
-#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
+#include <pcl_patchdict/repair/patch_repairs.h>
 
 #include <chrono>
 #include <cstdio>
@@ -80,18 +80,15 @@ struct Demo {
   std::string file(const std::string& name) const { return (std::filesystem::path(folder) / name).string(); }
 };
 
-/** One repair: the geometric base alone or with patches (self-similar, mode defaults), timed. */
-SparsePatchInpainter::Report repair(SparsePatchInpainter::Mode mode, const TriangleMesh& input, bool patches,
-                                    const std::vector<int>& missing, TriangleMesh& out, Row& row)
+/** One repair (`run`: options, report), the geometric base alone or with self-similar patches, at
+  * the repair's defaults; timed into `row`. */
+template <class Options, class Report, class Run>
+Report timedRepair(bool patches, Row& row, Run run)
 {
-  SparsePatchInpainter inpainter(mode);
-  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(input));
-  if (!missing.empty())
-    inpainter.setMissingVertices(missing);
-  inpainter.setUsePatches(patches);
-  inpainter.setParameters(SparsePatchInpainter::defaultParameters(mode));
-  SparsePatchInpainter::Report report;
-  row.seconds = secondsOf([&] { inpainter.process(out, &report); });
+  Options options;
+  options.use_patches = patches;
+  Report report;
+  row.seconds = secondsOf([&] { run(options, report); });
   return report;
 }
 
@@ -122,7 +119,9 @@ void demoMissingVertices(Demo& demo)
   for (bool patches : {false, true}) {
     TriangleMesh repaired;
     Row row{"missing 20 %", patches ? "bi-Laplacian + patches" : "bi-Laplacian"};
-    repair(SparsePatchInpainter::Mode::MissingVertices, damaged, patches, demo.missing, repaired, row);
+    timedRepair<MissingVerticesOptions, MissingVerticesReport>(patches, row, [&](const auto& options, auto& report) {
+      fillMissingVertices(damaged, demo.missing, repaired, options, &report);
+    });
     row.error = 1e3 * vertexRMSE(demo.truth, repaired, demo.missing);
     row.key = patches ? "missing_patches" : "missing_bilaplacian";
     demo.rows.push_back(row);
@@ -142,8 +141,8 @@ std::vector<TriangleMesh> demoFillHoles(Demo& demo, const std::string& task, con
   for (bool patches : {false, true}) {
     TriangleMesh filled;
     Row row{task, patches ? "Liepa + patches" : "Liepa"};
-    const SparsePatchInpainter::Report report =
-        repair(SparsePatchInpainter::Mode::Holes, holed.mesh, patches, {}, filled, row);
+    const HoleRepairReport report = timedRepair<HoleRepairOptions, HoleRepairReport>(
+        patches, row, [&](const auto& options, auto& r) { fillHolesWithPatches(holed.mesh, filled, options, &r); });
     if (patches)
       row.method += report.relief ? " (relief found)" : " (smooth)";
     const HoleFillScore score = scoreHoleFill(clean, holed, filled);
@@ -182,7 +181,9 @@ void demoDenoise(Demo& demo)
   for (bool patches : {false, true}) {
     TriangleMesh denoised;
     Row row{"noise 0.5 edge", patches ? "Taubin + self-similar patches" : "Taubin (discrepancy)"};
-    repair(SparsePatchInpainter::Mode::Denoise, noisy, patches, {}, denoised, row);
+    timedRepair<DenoiseOptions, DenoiseReport>(patches, row, [&](const auto& options, auto& report) {
+      denoiseWithPatches(noisy, denoised, options, &report);
+    });
     row.error = 1e3 * vertexRMSE(demo.truth, denoised);
     row.key = patches ? "denoise_patches" : "denoise_taubin";
     demo.rows.push_back(row);

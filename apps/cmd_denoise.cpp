@@ -1,7 +1,7 @@
 // `pcl_patchdict denoise IN [--dict DICT.pdd | --self-similar | --no-patches] -o OUT`: the
 // geometric base (TaubinSmoother, iterations by the discrepancy principle), then, with a
 // dictionary, every patch replaced by its sparse approximation to an error target matched to the
-// noise (SparsePatchInpainter, Denoise). Vertex count, order and faces kept.
+// noise (denoiseWithPatches). Vertex count, order and faces kept.
 // Without --dict no patches are used unless --self-similar asks for a dictionary learned from the
 // noisy input itself: nothing of a noisy input is intact, and measured on scans such a dictionary
 // makes the result worse than the base (README "Measured").
@@ -10,7 +10,7 @@
 #include "repair_options.h"
 
 #include <pcl_patchdict/core/normalization.h>
-#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
+#include <pcl_patchdict/repair/patch_repairs.h>
 
 #include <cstdio>
 #include <iostream>
@@ -38,7 +38,8 @@ int runDenoise(const std::vector<std::string>& raw)
   const bool quiet = line.quiet;
   const std::string& in_path = line.in_path;
   const std::string& out_path = line.out_path;
-  SparsePatchInpainter::Parameters parameters = readRepairOptions(args, SparsePatchInpainter::Mode::Denoise);
+  DenoiseOptions parameters;
+  readRepairOptions(args, parameters);
   parameters.noise_sigma = args.getDouble("noise");
   const double noise_edges = args.getDouble("noise-edges", 0.0);  // read only when given
   const bool use_patches = args.has("dict") || args.has("self-similar");
@@ -54,10 +55,10 @@ int runDenoise(const std::vector<std::string>& raw)
     parameters.noise_sigma = noise_edges * UnitCubeNormalization::fromMesh(mesh).applyLength(mesh.meanEdgeLength());
 
   timer.start("denoise");
-  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Denoise);
+  setPatchSource(parameters, inputs.dictionary, use_patches);
   TriangleMesh denoised;
-  const SparsePatchInpainter::Report report =
-      runRepair(inpainter, mesh, inputs.dictionary, use_patches, parameters, denoised);
+  DenoiseReport report;
+  denoiseWithPatches(mesh, denoised, parameters, &report);
   char sigma_line[160];
   std::snprintf(sigma_line, sizeof sigma_line, "  noise sigma %.4g (%s, %.3f x mean edge)", report.noise_sigma,
                 report.noise_estimated ? "estimated" : "given",

@@ -1,5 +1,5 @@
 // `pcl_patchdict fill-holes IN [--dict DICT.pdd | --no-patches] -o OUT`: Liepa's
-// triangulate–refine–fair, then the new vertices corrected by patches (SparsePatchInpainter, Holes).
+// triangulate–refine–fair, then the new vertices corrected by patches (fillHolesWithPatches).
 // The output keeps the input vertices first, bit-identical and in order, then the new ones.
 #include "cli.h"
 #include "options.h"
@@ -7,7 +7,7 @@
 
 #include <pcl_patchdict/geometry/hole_filling.h>
 #include <pcl_patchdict/core/normalization.h>
-#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
+#include <pcl_patchdict/repair/patch_repairs.h>
 
 #include <cmath>
 #include <cstdio>
@@ -25,8 +25,8 @@ namespace {
 
 /** --json of a mesh fill. */
 JsonObject fillHolesJson(const Arguments& args, const RepairCommandLine& line,
-                         const SparsePatchInpainter::Parameters& parameters, const TriangleMesh& mesh,
-                         const TriangleMesh& filled, const SparsePatchInpainter::Report& repair,
+                         const HoleRepairOptions& parameters, const TriangleMesh& mesh,
+                         const TriangleMesh& filled, const HoleRepairReport& repair,
                          const std::map<std::string, std::size_t>& reasons, const StageTimer& timer,
                          const JsonObject& report_json)
 {
@@ -61,7 +61,7 @@ JsonObject fillHolesJson(const Arguments& args, const RepairCommandLine& line,
     json.add("sparsity", parameters.sparsity).add("mu", parameters.constraint_weight);
     json.add("mean_correction", repair.mean_correction);
   }
-  json.add("repair_stages", repairStagesJson(repair));
+  json.add("repair_stages", repairStagesJson(repair, &repair));
   JsonObject seconds = timer.json();
   seconds.add("triangulation", report.seconds_triangulation)
       .add("refinement", report.seconds_refinement)
@@ -87,9 +87,10 @@ int runFillHoles(const std::vector<std::string>& raw)
   const bool quiet = line.quiet;
   const std::string& in_path = line.in_path;
   const std::string& out_path = line.out_path;
-  SparsePatchInpainter::Parameters parameters = readRepairOptions(args, SparsePatchInpainter::Mode::Holes);
+  HoleRepairOptions parameters;
+  readRepairOptions(args, parameters);
+  parameters.constraint_weight = args.getDouble("mu");
   parameters.hole_quad_factor = args.getDouble("hole-factor");
-  using HoleSettings = SparsePatchInpainter::Parameters::HoleSettings;
   const std::string surface = args.getWord("surface");
   parameters.hole_settings = surface == "smooth"   ? HoleSettings::Smooth
                              : surface == "relief" ? HoleSettings::Relief
@@ -106,11 +107,11 @@ int runFillHoles(const std::vector<std::string>& raw)
   if (std::isfinite(max_diameter) && !args.has("absolute"))
     diameter_limit = UnitCubeNormalization::fromMesh(mesh).invertLength(max_diameter);
   filler.setMaxHoleDiameter(diameter_limit > 0.0 ? diameter_limit : std::numeric_limits<double>::min());
-  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::Holes);
-  inpainter.setHoleFilling(filler);
+  parameters.filling = filler;
+  setPatchSource(parameters, inputs.dictionary, !args.has("no-patches"));
   TriangleMesh filled;
-  const SparsePatchInpainter::Report repair =
-      runRepair(inpainter, mesh, inputs.dictionary, !args.has("no-patches"), parameters, filled);
+  HoleRepairReport repair;
+  fillHolesWithPatches(mesh, filled, parameters, &repair);
   const HoleFilling::Report& report = repair.holes;
   if (repair.used_patches) {
     char line[200];

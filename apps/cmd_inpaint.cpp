@@ -6,7 +6,7 @@
 
 #include <pcl_patchdict/io/index_io.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
-#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
+#include <pcl_patchdict/repair/patch_repairs.h>
 
 #include <cstdio>
 #include <iostream>
@@ -22,19 +22,19 @@ int runInpaint(const std::vector<std::string>& raw)
   const bool quiet = line.quiet;
   const std::string& in_path = line.in_path;
   const std::string& out_path = line.out_path;
-  const SparsePatchInpainter::Parameters parameters =
-      readRepairOptions(args, SparsePatchInpainter::Mode::MissingVertices);
+  MissingVerticesOptions parameters;
+  readRepairOptions(args, parameters);
+  parameters.constraint_weight = args.getDouble("mu");
   StageTimer timer(quiet);
   const RepairInputs inputs = loadRepairInputs(line, parameters.grid_size, "inpaint", timer);
   const TriangleMesh& mesh = inputs.mesh;
   const std::vector<int> missing = readIndexFile(args.get("missing"), mesh.numVertices());
 
   timer.start("inpaint");
-  SparsePatchInpainter inpainter(SparsePatchInpainter::Mode::MissingVertices);
-  inpainter.setMissingVertices(missing);
+  setPatchSource(parameters, inputs.dictionary, !args.has("no-patches"));
   TriangleMesh repaired;
-  const SparsePatchInpainter::Report report =
-      runRepair(inpainter, mesh, inputs.dictionary, !args.has("no-patches"), parameters, repaired);
+  MissingVerticesReport report;
+  fillMissingVertices(mesh, missing, repaired, parameters, &report);
 
   timer.start("write");
   writeMesh(out_path, repaired);

@@ -60,9 +60,8 @@ TriangleMesh loadRepairMesh(const std::string& path, bool quiet, const std::stri
   return mesh;
 }
 
-SparsePatchInpainter::Parameters readRepairOptions(const Arguments& args, SparsePatchInpainter::Mode mode)
+void readRepairOptions(const Arguments& args, PatchRepairCommon& options)
 {
-  SparsePatchInpainter::Parameters parameters = SparsePatchInpainter::defaultParameters(mode);
   if (args.has("dict") && args.has("no-patches"))
     throw UsageError("--dict and --no-patches exclude each other");
   if (args.has("ref") && !args.has("report"))
@@ -72,36 +71,26 @@ SparsePatchInpainter::Parameters readRepairOptions(const Arguments& args, Sparse
     refusePatchOptions(args, "--no-patches turns off");
   if (args.has("dict"))
     args.refuse("atoms", "sizes a self-similar dictionary; --dict brings its own atoms");
-  parameters.quad_length = args.getDouble("quad-length");
-  parameters.quad_length_factor = args.getDouble("quad-factor");
-  parameters.sparsity = static_cast<int>(args.getInt("sparsity"));
-  if (args.takes("mu"))  // denoise has none (its weight is --fidelity)
-    parameters.constraint_weight = args.getDouble("mu");
-  parameters.overlap = static_cast<int>(args.getInt("overlap"));
-  parameters.smoothing_iterations = static_cast<int>(args.getInt("smoothing-iterations"));
-  parameters.self_similar_atoms = static_cast<int>(args.getInt("atoms"));
-  parameters.grid_size = static_cast<int>(args.getInt("grid", parameters.grid_size));  // 0: the dictionary's
-  parameters.patch_scale = args.getDouble("patch-scale");
-  parameters.centre_sigma = args.getDouble("centre-sigma");
-  parameters.observed_power = args.getDouble("observed-power");
-  parameters.fit_scale = args.getDouble("fit-scale");
-  parameters.agreement_scale = args.getDouble("agreement-scale");
-  parameters.min_observed_fraction = args.getDouble("min-observed");
-  parameters.seed = static_cast<std::uint64_t>(args.getInt("seed"));
-  return parameters;
+  options.quad_length = args.getDouble("quad-length");
+  options.quad_length_factor = args.getDouble("quad-factor");
+  options.sparsity = static_cast<int>(args.getInt("sparsity"));
+  options.overlap = static_cast<int>(args.getInt("overlap"));
+  options.smoothing_iterations = static_cast<int>(args.getInt("smoothing-iterations"));
+  options.self_similar_atoms = static_cast<int>(args.getInt("atoms"));
+  options.grid_size = static_cast<int>(args.getInt("grid", options.grid_size));  // 0: the dictionary's
+  options.patch_scale = args.getDouble("patch-scale");
+  options.centre_sigma = args.getDouble("centre-sigma");
+  options.observed_power = args.getDouble("observed-power");
+  options.fit_scale = args.getDouble("fit-scale");
+  options.agreement_scale = args.getDouble("agreement-scale");
+  options.min_observed_fraction = args.getDouble("min-observed");
+  options.seed = static_cast<std::uint64_t>(args.getInt("seed"));
 }
 
-SparsePatchInpainter::Report runRepair(SparsePatchInpainter& inpainter, const TriangleMesh& mesh,
-                                       const PatchDictionary::ConstPtr& dictionary, bool use_patches,
-                                       const SparsePatchInpainter::Parameters& parameters, TriangleMesh& out)
+void setPatchSource(PatchRepairCommon& options, const PatchDictionary::ConstPtr& dictionary, bool use_patches)
 {
-  inpainter.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
-  inpainter.setDictionary(dictionary);
-  inpainter.setUsePatches(use_patches);
-  inpainter.setParameters(parameters);
-  SparsePatchInpainter::Report report;
-  inpainter.process(out, &report);
-  return report;
+  options.use_patches = use_patches;
+  options.dictionary = use_patches ? dictionary : nullptr;
 }
 
 RepairInputs loadRepairInputs(const RepairCommandLine& line, int grid_size, const std::string& command,
@@ -173,12 +162,14 @@ JsonObject patchStageJson(const PatchCorrectionReport& report)
   return json;
 }
 
-JsonObject repairStagesJson(const SparsePatchInpainter::Report& report)
+JsonObject repairStagesJson(const PatchRepairReport& report, const HoleRepairReport* holes)
 {
+  const HoleRepairReport no_check;
+  const HoleRepairReport& check = holes ? *holes : no_check;
   JsonObject json;
-  json.add("base", report.seconds_base).add("surface_check", report.seconds_check);
-  json.add("check_layout", report.seconds_check_layout).add("check_patches", report.seconds_check_patches);
-  json.add("check_prediction", report.seconds_check_prediction);
+  json.add("base", report.seconds_base).add("surface_check", check.seconds_check);
+  json.add("check_layout", check.seconds_check_layout).add("check_patches", check.seconds_check_patches);
+  json.add("check_prediction", check.seconds_check_prediction);
   json.add("patch_stage", report.seconds_patch_stage);
   json.add("layout", report.patches.seconds_layout).add("patches", report.patches.seconds_patches);
   json.add("dictionary", report.patches.seconds_dictionary).add("coding", report.patches.seconds_coding);

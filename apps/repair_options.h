@@ -4,7 +4,7 @@
 
 #include "cli.h"
 
-#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
+#include <pcl_patchdict/repair/patch_repairs.h>
 
 #include <set>
 #include <string>
@@ -39,15 +39,15 @@ RepairCommandLine parseRepairCommand(const std::vector<std::string>& raw, const 
 void checkRepairOutput(const std::string& out_path, const std::string& in_path, bool keeps_vertex_order);
 /** loadMesh, and an Error naming `command` when the file has no faces. */
 TriangleMesh loadRepairMesh(const std::string& path, bool quiet, const std::string& command);
-/** `mode`'s parameters (defaultParameters) with the options of the command's table read into them;
-  * UsageErrors: --dict with --no-patches, a patch-stage option with --no-patches, --atoms with
-  * --dict, --ref without --report, --error-scale without --ref. */
-SparsePatchInpainter::Parameters readRepairOptions(const Arguments& args, SparsePatchInpainter::Mode mode);
-/** Runs `inpainter` (its mode's own inputs already set) on `mesh` with the dictionary (null:
-  * self-similar, unless !use_patches) and `parameters`; its report. */
-SparsePatchInpainter::Report runRepair(SparsePatchInpainter& inpainter, const TriangleMesh& mesh,
-                                       const PatchDictionary::ConstPtr& dictionary, bool use_patches,
-                                       const SparsePatchInpainter::Parameters& parameters, TriangleMesh& out);
+/** The patch-stage options every repair shares, read from the command's table into `options`
+  * (whose other fields keep their repair's defaults); --mu, where the command has it, is the
+  * caller's (the repairs name their weights apart). UsageErrors: --dict with --no-patches, a
+  * patch-stage option with --no-patches, --atoms with --dict, --ref without --report,
+  * --error-scale without --ref. */
+void readRepairOptions(const Arguments& args, PatchRepairCommon& options);
+/** The patch source, once the inputs are loaded: `dictionary` (null: self-similar) when
+  * `use_patches`, none otherwise. */
+void setPatchSource(PatchRepairCommon& options, const PatchDictionary::ConstPtr& dictionary, bool use_patches);
 
 /** What --report DIR [--ref REF [--error-scale E]] asks for. */
 struct ReportRequest {
@@ -81,7 +81,8 @@ std::string dictionaryKind(const Arguments& args);
 std::string patchStageSummary(const PatchCorrectionReport& report);
 JsonObject patchStageJson(const PatchCorrectionReport& report);
 /** Seconds of the base, the patch stage (and its parts), and the solve. */
-JsonObject repairStagesJson(const SparsePatchInpainter::Report& report);
+/** `holes`: the hole repair's report, for its relief check's seconds (0 for the other repairs). */
+JsonObject repairStagesJson(const PatchRepairReport& report, const HoleRepairReport* holes = nullptr);
 
 }  // namespace cli
 }  // namespace patchdict

@@ -11,7 +11,6 @@
 #include <pcl_patchdict/coding/patch_dictionary.h>
 #include <pcl_patchdict/quads/patch_layout.h>
 #include <pcl_patchdict/repair/patch_repairs.h>
-#include <pcl_patchdict/repair/sparse_patch_inpainter.h>
 
 #include <gtest/gtest.h>
 
@@ -137,12 +136,8 @@ TEST(CliOptions, DefaultsLieInTheirRanges)
 // The defaults a command passes on are the library's: the table cannot drift from the structs.
 TEST(CliOptions, DefaultsAreTheLibrarys)
 {
-  using Mode = SparsePatchInpainter::Mode;
-  const std::vector<std::pair<std::string, Mode>> repairs{
-      {"inpaint", Mode::MissingVertices}, {"fill-holes", Mode::Holes}, {"denoise", Mode::Denoise}};
-  for (const auto& [command, mode] : repairs) {
+  const auto checkShared = [](const std::string& command, const PatchRepairCommon& p) {
     SCOPED_TRACE(command);
-    const SparsePatchInpainter::Parameters p = SparsePatchInpainter::defaultParameters(mode);
     EXPECT_EQ(realDefault(command, "quad-length"), p.quad_length);
     EXPECT_EQ(realDefault(command, "quad-factor"), p.quad_length_factor);
     EXPECT_EQ(intDefault(command, "sparsity"), p.sparsity);
@@ -158,12 +153,11 @@ TEST(CliOptions, DefaultsAreTheLibrarys)
     EXPECT_EQ(realDefault(command, "agreement-scale"), p.agreement_scale);
     EXPECT_EQ(realDefault(command, "min-observed"), p.min_observed_fraction);
     EXPECT_EQ(static_cast<std::uint64_t>(intDefault(command, "seed")), p.seed);
-    if (mode != Mode::Denoise) {
-      EXPECT_EQ(realDefault(command, "mu"), p.constraint_weight);
-    }
-  }
-  const SparsePatchInpainter::Parameters holes = SparsePatchInpainter::defaultParameters(Mode::Holes);
-  EXPECT_EQ(realDefault("fill-holes", "hole-factor"), holes.hole_quad_factor);
+  };
+  checkShared("inpaint", MissingVerticesOptions());
+  checkShared("fill-holes", HoleRepairOptions());
+  checkShared("denoise", DenoiseOptions());
+  EXPECT_EQ(realDefault("fill-holes", "hole-factor"), HoleRepairOptions().hole_quad_factor);
   const DenoiseOptions denoise;  // and the entry point's own options struct
   EXPECT_EQ(realDefault("denoise", "noise"), denoise.noise_sigma);
   EXPECT_EQ(realDefault("denoise", "error-factor"), denoise.error_factor);

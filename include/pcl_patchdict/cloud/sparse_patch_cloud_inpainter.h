@@ -134,7 +134,7 @@ struct DepthRun;  // processDepthImage's (impl/sparse_patch_cloud_inpainter_dept
 }  // namespace detail
 
 /** \brief Denoises a point cloud with local height-field patches (the cloud variant of
-  * SparsePatchInpainter's denoising; docs/design.md, the point-cloud path):
+  * denoiseWithPatches; docs/design.md, the point-cloud path):
   *
   *  1. statistical pre-filter of gross outliers (on by default, counted in the report);
   *  2. s = mean nearest-neighbour spacing; σ estimated from leave-one-out patch residuals (or given);
