@@ -32,10 +32,11 @@ void writeFrames(const std::string& path, const UnitCubeNormalization& normaliza
   out << "property int quad\nend_header\n";
   for (std::size_t s = 0; s < layout.seeds.size(); ++s) {
     const Eigen::Vector3d p = normalization.invert(layout.seeds[s]);
-    const auto& f = layout.frames[s];
+    const Eigen::Matrix3d& f = layout.frames[s];
     out << p.x() << ' ' << p.y() << ' ' << p.z();
-    for (const float* axis : {f.x_axis, f.y_axis, f.z_axis})
-      out << ' ' << axis[0] << ' ' << axis[1] << ' ' << axis[2];
+    for (int axis = 0; axis < 3; ++axis)  // rows X, Y, Z; floats, as the header says (exact: rounded)
+      out << ' ' << static_cast<float>(f(axis, 0)) << ' ' << static_cast<float>(f(axis, 1)) << ' '
+          << static_cast<float>(f(axis, 2));
     out << ' ' << layout.seed_faces[s] << '\n';
   }
   writeFileAtomically(path, out.str());

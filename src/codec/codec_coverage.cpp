@@ -7,7 +7,7 @@
 #include "pcl/point_conversion.h"
 
 #include <pcl_patchdict/geometry/metrics.h>
-#include <pcl_patchdict/pcl/reference_frame.h>
+#include <pcl_patchdict/core/local_frame.h>
 #include <pcl_patchdict/core/vertex_normals.h>
 
 #include <pcl/kdtree/kdtree_flann.h>
@@ -94,9 +94,9 @@ void coverageSeedAndRotation(const CoverageFrame& frame, std::uint32_t position_
   rotation.row(0) = x;
   rotation.row(1) = z.cross(x);
   rotation.row(2) = z;
-  // Through pcl::ReferenceFrame's floats, as the quad patches' frames: the rotation the height
-  // maps are sampled in is then exactly the one both sides decode with.
-  rotation = fromReferenceFrame(toReferenceFrame(rotation));
+  // Rounded to float, as the quad patches' frames (core/local_frame.h): the rotation the height
+  // maps are sampled in is exactly the one both sides decode with, as in version-3 files.
+  rotation = roundToSinglePrecision(rotation);
 }
 
 std::vector<CoverageFrame> chooseCoverageFrames(const TriangleMesh& surface, const PointToMeshDistance& decoded,

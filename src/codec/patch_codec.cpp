@@ -8,7 +8,6 @@
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/quads/quad_remesher.h>
-#include <pcl_patchdict/pcl/reference_frame.h>
 
 #include <omp.h>
 
@@ -180,18 +179,15 @@ void addCoveragePatches(const TriangleMesh& surface, const PatchDictionary& dict
   const int grid = static_cast<int>(c.grid_size);
   const std::size_t bins = static_cast<std::size_t>(grid) * static_cast<std::size_t>(grid);
   std::vector<Eigen::Vector3d> seeds(frames.size());
-  std::vector<Eigen::Matrix3d> rotations(frames.size());
-  pcl::PointCloud<pcl::ReferenceFrame> reference_frames;
-  for (std::size_t q = 0; q < frames.size(); ++q) {
+  std::vector<Eigen::Matrix3d> rotations(frames.size());  // rounded by coverageSeedAndRotation
+  for (std::size_t q = 0; q < frames.size(); ++q)
     detail::coverageSeedAndRotation(frames[q], c.position_bits, seeds[q], rotations[q]);
-    reference_frames.push_back(toReferenceFrame(rotations[q]));
-  }
   PatchSet sampled;
-  extractor.setSeeds(seeds, reference_frames);
+  extractor.setSeeds(seeds, rotations);
   extractor.compute(sampled);
   const std::vector<std::int64_t> offsets = seedOffsets(sampled, grid, gridScale(c.position_bits));
   applySeedOffsets(offsets, c.position_bits, seeds, rotations);
-  extractor.setSeeds(seeds, reference_frames);
+  extractor.setSeeds(seeds, rotations);
   extractor.compute(sampled);
 
   std::vector<std::size_t> useful;
@@ -443,8 +439,7 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
   PatchSet patches;
   patches.grid_size = grid;
   patches.radius = c.radius;
-  pcl::PointCloud<pcl::ReferenceFrame> frames;
-  quadSeeds(quads, c.overlap, patches.seeds, frames, patches.rotations);
+  quadSeeds(quads, c.overlap, patches.seeds, patches.rotations);
   if (patches.seeds.empty())
     throw Error("codec: the quad mesh has no usable face");
   local.seconds_layout = since(t);
@@ -459,11 +454,11 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
   // A quad's centre lies off a curved surface (by its sagitta); patches learned around surface
   // points code best around surface points: each seed moves along Z to the surface height at the
   // grid's centre (one small integer per patch), then the patches are sampled there.
-  extractor.setSeeds(patches.seeds, frames);
+  extractor.setSeeds(patches.seeds, patches.rotations);
   extractor.compute(sampled);
   c.offsets = seedOffsets(sampled, grid, position_scale);
   applySeedOffsets(c.offsets, c.position_bits, patches.seeds, patches.rotations);
-  extractor.setSeeds(patches.seeds, frames);
+  extractor.setSeeds(patches.seeds, patches.rotations);
   extractor.compute(sampled);
   local.seconds_patches = since(t);
 

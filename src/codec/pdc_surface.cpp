@@ -8,7 +8,6 @@
 #include <pcl_patchdict/patches/patch_mesh_reconstruction.h>
 #include <pcl_patchdict/quads/quad_frame_estimation.h>
 #include <pcl_patchdict/quads/quad_subdivision.h>
-#include <pcl_patchdict/pcl/reference_frame.h>
 
 #include <chrono>
 
@@ -79,19 +78,15 @@ QuadMesh rebuildQuadMesh(const PdcContent& c)
   return quads;
 }
 
-/** Seeds and frames of the patches: QuadFrameEstimation on the rebuilt quad mesh; the frames also
-  * as rotations (PatchSet's form). */
+/** Seeds and frames of the patches: QuadFrameEstimation on the rebuilt quad mesh, its frames
+  * rounded to single precision as the encoder's were (what version-3 files were written with). */
 void quadSeeds(const QuadMesh& quads, std::uint32_t overlap, std::vector<Eigen::Vector3d>& seeds,
-               pcl::PointCloud<pcl::ReferenceFrame>& frames, std::vector<Eigen::Matrix3d>& rotations)
+               std::vector<Eigen::Matrix3d>& rotations)
 {
   QuadFrameEstimation estimation;
   estimation.setInputQuadMesh(std::make_shared<const QuadMesh>(quads));
   estimation.setOverlap(static_cast<int>(overlap));
-  estimation.compute(seeds, frames);
-  rotations.clear();
-  rotations.reserve(frames.size());
-  for (const auto& frame : frames)
-    rotations.push_back(fromReferenceFrame(frame));
+  estimation.compute(seeds, rotations);
 }
 
 /** Seeds moved along their frames' Z by the stored offsets (position-grid units). */
@@ -197,8 +192,7 @@ TriangleMesh decodeSurface(const PdcContent& c, const PatchDictionary& dictionar
   PatchSet patches;
   patches.grid_size = static_cast<int>(c.grid_size);
   patches.radius = c.radius;
-  pcl::PointCloud<pcl::ReferenceFrame> frames;
-  quadSeeds(quads, c.overlap, patches.seeds, frames, patches.rotations);
+  quadSeeds(quads, c.overlap, patches.seeds, patches.rotations);
   const std::size_t num_patches = c.atoms.size(), num_quad_patches = num_patches - c.coverage.size();
   if (patches.seeds.size() != num_quad_patches)
     throw Error(what + "the quad mesh gives " + std::to_string(patches.seeds.size()) + " patches, the file codes " +

@@ -9,9 +9,6 @@
 #include <pcl_patchdict/patches/patch_set.h>
 #include <pcl_patchdict/quads/quad_mesh.h>
 
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
-
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -44,9 +41,10 @@ void renumberByFirstUse(FaceList& faces, std::vector<Eigen::Vector3d>& vertices)
   * vertex normals from the faces' Newell vectors, so frames never need storing. */
 QuadMesh rebuildQuadMesh(const PdcContent& c);
 
-/** Seeds and frames of the quad mesh's patches (QuadFrameEstimation), the frames also as rotations. */
+/** Seeds and frames (rounded, as rotations: rows X, Y, Z) of the quad mesh's patches
+  * (QuadFrameEstimation). */
 void quadSeeds(const QuadMesh& quads, std::uint32_t overlap, std::vector<Eigen::Vector3d>& seeds,
-               pcl::PointCloud<pcl::ReferenceFrame>& frames, std::vector<Eigen::Matrix3d>& rotations);
+               std::vector<Eigen::Matrix3d>& rotations);
 
 /** Seeds moved along their frames' Z (row 2 of each rotation) by the stored offsets, in units of
   * the position grid: the encoder and the decoder move them with this one function. */

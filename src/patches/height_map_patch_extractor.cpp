@@ -1,6 +1,5 @@
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/patches/height_map_patch_extractor.h>
-#include <pcl_patchdict/pcl/reference_frame.h>
 
 #include "pcl/point_conversion.h"
 
@@ -63,13 +62,10 @@ int threadCount(int requested) { return requested > 0 ? requested : omp_get_max_
 }  // namespace
 
 void HeightMapPatchExtractor::setSeeds(const std::vector<Eigen::Vector3d>& seeds,
-                                       const pcl::PointCloud<pcl::ReferenceFrame>& frames)
+                                       const std::vector<Eigen::Matrix3d>& frames)
 {
   seeds_ = seeds;
-  num_frames_ = frames.size();
-  rotations_.resize(frames.size());
-  for (std::size_t p = 0; p < frames.size(); ++p)
-    rotations_[p] = fromReferenceFrame(frames[p]);
+  rotations_ = frames;
 }
 
 void HeightMapPatchExtractor::setInputMesh(const std::shared_ptr<const TriangleMesh>& mesh)
@@ -94,13 +90,14 @@ void HeightMapPatchExtractor::checkInput() const
   if (grid_size_ < 2 || grid_size_ > kMaxGrid)
     throw Error(what + "the grid size must be in [2, " + std::to_string(kMaxGrid) + "], not " +
                 std::to_string(grid_size_));
-  if (num_frames_ != seeds_.size())
-    throw Error(what + std::to_string(seeds_.size()) + " seeds but " + std::to_string(num_frames_) + " frames");
+  if (rotations_.size() != seeds_.size())
+    throw Error(what + std::to_string(seeds_.size()) + " seeds but " + std::to_string(rotations_.size()) + " frames");
   for (std::size_t p = 0; p < seeds_.size(); ++p) {
     if (!seeds_[p].allFinite() || !rotations_[p].allFinite())
       throw Error(what + "seed or frame " + std::to_string(p) + " is not finite");
-    // Frames arrive as float[3] triplets: orthonormal to float precision is all we can ask; a
-    // left-handed frame would mirror its patch and confuse the dictionary, so it is a bug upstream.
+    // Frames are rounded to float where they are made (or come from pcl::ReferenceFrame): orthonormal
+    // to float precision is all we can ask; a left-handed frame would mirror its patch and confuse
+    // the dictionary, so it is a bug upstream.
     const double deviation = (rotations_[p] * rotations_[p].transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
     if (deviation > 1e-4)
       throw Error(what + "frame " + std::to_string(p) + " is not orthonormal (deviation " +
@@ -298,7 +295,7 @@ void HeightMapPatchExtractor::computeCloud(PatchSet& out) const
   }
 }
 
-pcl::ReferenceFrame referenceFrameFromNormal(const Eigen::Vector3d& normal)
+Eigen::Matrix3d frameFromNormal(const Eigen::Vector3d& normal)
 {
   const Eigen::Vector3d z = normal.normalized();
   const Eigen::Vector3d x = z.unitOrthogonal(), y = z.cross(x);
@@ -306,7 +303,7 @@ pcl::ReferenceFrame referenceFrameFromNormal(const Eigen::Vector3d& normal)
   rows.row(0) = x;
   rows.row(1) = y;
   rows.row(2) = z;
-  return toReferenceFrame(rows);
+  return roundToSinglePrecision(rows);  // as it was through pcl::ReferenceFrame (core/local_frame.h)
 }
 
 }  // namespace patchdict

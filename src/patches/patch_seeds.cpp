@@ -1,6 +1,5 @@
 #include <pcl_patchdict/patches/patch_seeds.h>
 
-
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/patches/height_map_patch_extractor.h>
 #include <pcl_patchdict/quads/patch_layout.h>
@@ -41,7 +40,7 @@ SeedsAndFrames randomSeedsAndFrames(const TriangleMesh& mesh, std::size_t count,
                              v * vertex_normals[static_cast<std::size_t>(face[2])];
     if (!(normal.norm() > 1e-12))
       normal = mesh.faceNormal(face_index);
-    out.frames.push_back(referenceFrameFromNormal(normal.normalized()));
+    out.frames.push_back(frameFromNormal(normal.normalized()));
   }
   return out;
 }

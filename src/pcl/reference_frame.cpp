@@ -26,5 +26,23 @@ Eigen::Matrix3d fromReferenceFrame(const pcl::ReferenceFrame& frame)
   return rows;
 }
 
+pcl::PointCloud<pcl::ReferenceFrame> toReferenceFrames(const std::vector<Eigen::Matrix3d>& frames)
+{
+  pcl::PointCloud<pcl::ReferenceFrame> cloud;
+  cloud.reserve(frames.size());
+  for (const Eigen::Matrix3d& rows : frames)
+    cloud.push_back(toReferenceFrame(rows));  // push_back keeps width = size, height = 1
+  return cloud;
+}
+
+std::vector<Eigen::Matrix3d> fromReferenceFrames(const pcl::PointCloud<pcl::ReferenceFrame>& frames)
+{
+  std::vector<Eigen::Matrix3d> rows;
+  rows.reserve(frames.size());
+  for (const pcl::ReferenceFrame& frame : frames)
+    rows.push_back(fromReferenceFrame(frame));
+  return rows;
+}
+
 }  // namespace patchdict
 }  // namespace pcl

@@ -45,7 +45,7 @@ std::size_t addCoverageSeeds(const TriangleMesh& surface, double quad_length, Pa
         covered[v] = 1;
   };
   for (std::size_t s = 0; s < layout.seeds.size(); ++s)
-    cover(layout.seeds[s], fromReferenceFrame(layout.frames[s]));
+    cover(layout.seeds[s], layout.frames[s]);
 
   pcl::KdTreeFLANN<pcl::PointXYZ> seed_tree;
   seed_tree.setInputCloud(detail::toCloudXYZ(layout.seeds));
@@ -55,7 +55,7 @@ std::size_t addCoverageSeeds(const TriangleMesh& surface, double quad_length, Pa
       continue;
     const Eigen::Vector3d& p = surface.vertices[v];
     seed_tree.nearestKSearch(detail::toPointXYZ(p), 1, indices, distances);
-    const Eigen::Matrix3d nearest = fromReferenceFrame(layout.frames[indices[0]]);
+    const Eigen::Matrix3d nearest = layout.frames[static_cast<std::size_t>(indices[0])];  // a copy: frames grows below
     const Eigen::Vector3d z = normals[v];
     Eigen::Vector3d x = transportTangent(nearest.row(0).transpose(), nearest.row(2).transpose(), z);
     if (x.squaredNorm() == 0.0)
@@ -65,13 +65,11 @@ std::size_t addCoverageSeeds(const TriangleMesh& surface, double quad_length, Pa
     rows.row(1) = z.cross(x);
     rows.row(2) = z;
     layout.seeds.push_back(p);
-    layout.frames.push_back(toReferenceFrame(rows));
+    layout.frames.push_back(roundToSinglePrecision(rows));  // as the quads' frames (core/local_frame.h)
     layout.seed_faces.push_back(-1);
     cover(p, rows);
     ++added;
   }
-  layout.frames.width = static_cast<std::uint32_t>(layout.frames.size());
-  layout.frames.height = 1;
   return added;
 }
 

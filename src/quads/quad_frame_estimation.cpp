@@ -244,7 +244,7 @@ std::vector<Eigen::Matrix3d> QuadFrameEstimation::computeFaceFrames() const
   return std::move(state.frames);
 }
 
-void QuadFrameEstimation::compute(std::vector<Eigen::Vector3d>& seeds, pcl::PointCloud<pcl::ReferenceFrame>& frames,
+void QuadFrameEstimation::compute(std::vector<Eigen::Vector3d>& seeds, std::vector<Eigen::Matrix3d>& frames,
                                   std::vector<std::int32_t>* seed_faces) const
 {
   if (overlap_ < 0 || overlap_ > 16)
@@ -258,7 +258,9 @@ void QuadFrameEstimation::compute(std::vector<Eigen::Vector3d>& seeds, pcl::Poin
   for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
     if (face_frames[f].isZero())
       continue;
-    const pcl::ReferenceFrame frame = toReferenceFrame(face_frames[f]);
+    // Rounded to float, as when frames passed through pcl::ReferenceFrame: the height maps, and
+    // the frames a version-3 .pdc decoder re-derives, stay the ones measured (core/local_frame.h).
+    const Eigen::Matrix3d frame = roundToSinglePrecision(face_frames[f]);
     const auto& face = mesh.faces[f];
     const Eigen::Vector3d centre = mesh.faceCentre(f);
     const auto emit = [&](const Eigen::Vector3d& seed) {
@@ -288,9 +290,6 @@ void QuadFrameEstimation::compute(std::vector<Eigen::Vector3d>& seeds, pcl::Poin
       }
     }
   }
-  frames.width = static_cast<std::uint32_t>(frames.size());
-  frames.height = 1;
-  frames.is_dense = true;
 }
 
 }  // namespace patchdict

@@ -15,35 +15,9 @@ using namespace pcl::patchdict;
 
 namespace {
 
-pcl::ReferenceFrame frameFromRows(const Eigen::Matrix3d& rotation)
+std::vector<Eigen::Matrix3d> identityFrames(std::size_t count)
 {
-  pcl::ReferenceFrame frame;
-  for (int c = 0; c < 3; ++c) {
-    frame.x_axis[c] = static_cast<float>(rotation(0, c));
-    frame.y_axis[c] = static_cast<float>(rotation(1, c));
-    frame.z_axis[c] = static_cast<float>(rotation(2, c));
-  }
-  return frame;
-}
-
-// The rotation the extractor actually uses: the float frame widened to double.
-Eigen::Matrix3d rowsOf(const pcl::ReferenceFrame& frame)
-{
-  Eigen::Matrix3d rotation;
-  for (int c = 0; c < 3; ++c) {
-    rotation(0, c) = frame.x_axis[c];
-    rotation(1, c) = frame.y_axis[c];
-    rotation(2, c) = frame.z_axis[c];
-  }
-  return rotation;
-}
-
-pcl::PointCloud<pcl::ReferenceFrame> identityFrames(std::size_t count)
-{
-  pcl::PointCloud<pcl::ReferenceFrame> frames;
-  for (std::size_t k = 0; k < count; ++k)
-    frames.push_back(frameFromRows(Eigen::Matrix3d::Identity()));
-  return frames;
+  return std::vector<Eigen::Matrix3d>(count, Eigen::Matrix3d::Identity());
 }
 
 // A right-handed frame whose Z is `normal`.
@@ -67,7 +41,7 @@ double binCentre(int index, int grid, double radius)
 }
 
 PatchSet extractMesh(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& seeds,
-                     const pcl::PointCloud<pcl::ReferenceFrame>& frames, double radius, int grid = 16, int threads = 0)
+                     const std::vector<Eigen::Matrix3d>& frames, double radius, int grid = 16, int threads = 0)
 {
   HeightMapPatchExtractor extractor;
   extractor.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
@@ -81,7 +55,7 @@ PatchSet extractMesh(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d
 }
 
 PatchSet extractCloud(const TriangleMesh& cloud, const std::vector<Eigen::Vector3d>& seeds,
-                      const pcl::PointCloud<pcl::ReferenceFrame>& frames, double radius, int grid = 16, int threads = 0)
+                      const std::vector<Eigen::Matrix3d>& frames, double radius, int grid = 16, int threads = 0)
 {
   HeightMapPatchExtractor extractor;
   extractor.setInputCloud(std::make_shared<const TriangleMesh>(cloud));
@@ -142,9 +116,9 @@ TEST(HeightMapPatchExtractorMesh, TiltedFrameGivesClosedFormSlope)
   const double theta = 0.3;
   Eigen::Matrix3d rows;
   rows << 1, 0, 0, 0, std::cos(theta), std::sin(theta), 0, -std::sin(theta), std::cos(theta);
-  pcl::PointCloud<pcl::ReferenceFrame> frames;
-  frames.push_back(frameFromRows(rows));
-  const double c = frames[0].y_axis[1], s = frames[0].y_axis[2];
+  std::vector<Eigen::Matrix3d> frames;
+  frames.push_back(roundToSinglePrecision(rows));
+  const double c = frames[0](1, 1), s = frames[0](1, 2);
   const double radius = 0.1;
   const int grid = 16;
   const PatchSet set = extractMesh(makePlaneGrid(20, 20), {Eigen::Vector3d(0.5, 0.5, 0.0)}, frames, radius, grid);
@@ -218,16 +192,16 @@ TEST(HeightMapPatchExtractorMesh, SphereHeightsWithinTessellationError)
   const double bound = radial_gap / std::cos(std::asin(radius / sphere_radius)) + 1e-6;
 
   std::vector<Eigen::Vector3d> seeds;
-  pcl::PointCloud<pcl::ReferenceFrame> frames;
+  std::vector<Eigen::Matrix3d> frames;
   for (const std::size_t v : {std::size_t{0}, std::size_t{100}, std::size_t{5000}, std::size_t{10241}}) {
     seeds.push_back(sphere.vertices[v]);
-    frames.push_back(frameFromRows(frameWithNormal(sphere.vertices[v])));
+    frames.push_back(roundToSinglePrecision(frameWithNormal(sphere.vertices[v])));
   }
   const PatchSet set = extractMesh(sphere, seeds, frames, radius, grid);
   EXPECT_TRUE(set.observed.all());
   for (std::size_t p = 0; p < seeds.size(); ++p) {
     // The sphere in the (float) frame: centre at R·(0 − s); upper sheet.
-    const Eigen::Vector3d centre = rowsOf(frames[p]) * (-seeds[p]);
+    const Eigen::Vector3d centre = frames[p] * (-seeds[p]);
     for (int j = 0; j < grid; ++j)
       for (int i = 0; i < grid; ++i) {
         const double x = binCentre(i, grid, radius), y = binCentre(j, grid, radius);
@@ -349,7 +323,7 @@ TEST(HeightMapPatchExtractorDeterminism, SameResultTwiceAndForAnyThreadCount)
   std::uniform_int_distribution<std::size_t> pick(0, relief.numVertices() - 1);
   std::uniform_real_distribution<double> angle(-0.5, 0.5);
   std::vector<Eigen::Vector3d> seeds;
-  pcl::PointCloud<pcl::ReferenceFrame> frames;
+  std::vector<Eigen::Matrix3d> frames;
   for (int k = 0; k < 400; ++k) {
     seeds.push_back(relief.vertices[pick(random)]);
     const Eigen::Matrix3d rotation =
@@ -357,7 +331,7 @@ TEST(HeightMapPatchExtractorDeterminism, SameResultTwiceAndForAnyThreadCount)
          Eigen::AngleAxisd(angle(random), Eigen::Vector3d::UnitX()))
             .toRotationMatrix()
             .transpose();
-    frames.push_back(frameFromRows(rotation));
+    frames.push_back(roundToSinglePrecision(rotation));
   }
   const PatchSet one = extractMesh(relief, seeds, frames, 0.05, 16, 1);
   const PatchSet two = extractMesh(relief, seeds, frames, 0.05, 16, 2);
@@ -407,12 +381,12 @@ TEST(HeightMapPatchExtractorErrors, BadInputIsRejectedWithOneLine)
   extractor.setGridSize(1);
   expectError(extractor, "grid 1");
   extractor.setGridSize(16);
-  pcl::PointCloud<pcl::ReferenceFrame> skewed = identityFrames(1);
-  skewed[0].x_axis[1] = 0.5f;
+  std::vector<Eigen::Matrix3d> skewed = identityFrames(1);
+  skewed[0](0, 1) = 0.5;
   extractor.setSeeds(seeds, skewed);
   expectError(extractor, "non-orthonormal frame");
-  pcl::PointCloud<pcl::ReferenceFrame> mirrored = identityFrames(1);
-  mirrored[0].z_axis[2] = -1.0f;
+  std::vector<Eigen::Matrix3d> mirrored = identityFrames(1);
+  mirrored[0](2, 2) = -1.0;
   extractor.setSeeds(seeds, mirrored);
   expectError(extractor, "left-handed frame");
   extractor.setSeeds({Eigen::Vector3d(std::nan(""), 0, 0)}, identityFrames(1));

@@ -23,9 +23,9 @@ namespace {
 PatchSet extractRandom(const TriangleMesh& mesh, std::size_t count, double side, int grid, std::uint64_t seed)
 {
   const SurfaceSamples seeds = sampleSurfaceUniform(mesh, count, seed);
-  pcl::PointCloud<pcl::ReferenceFrame> frames;
+  std::vector<Eigen::Matrix3d> frames;
   for (const auto face : seeds.face_ids)
-    frames.push_back(referenceFrameFromNormal(mesh.faceNormal(static_cast<std::size_t>(face))));
+    frames.push_back(frameFromNormal(mesh.faceNormal(static_cast<std::size_t>(face))));
   HeightMapPatchExtractor extractor;
   extractor.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
   extractor.setSeeds(seeds.points, frames);

@@ -26,20 +26,14 @@ PatchSet samplePatchSet()
   std::uniform_int_distribution<std::size_t> pick(0, relief.numVertices() - 1);
   std::uniform_real_distribution<double> angle(-0.4, 0.4);
   std::vector<Eigen::Vector3d> seeds;
-  pcl::PointCloud<pcl::ReferenceFrame> frames;
+  std::vector<Eigen::Matrix3d> frames;
   for (int k = 0; k < 37; ++k) {
     seeds.push_back(relief.vertices[pick(random)]);
     const Eigen::Matrix3d rows = (Eigen::AngleAxisd(angle(random) * 7.0, Eigen::Vector3d::UnitZ()) *
                                   Eigen::AngleAxisd(angle(random), Eigen::Vector3d::UnitY()))
                                      .toRotationMatrix()
                                      .transpose();
-    pcl::ReferenceFrame frame;
-    for (int c = 0; c < 3; ++c) {
-      frame.x_axis[c] = static_cast<float>(rows(0, c));
-      frame.y_axis[c] = static_cast<float>(rows(1, c));
-      frame.z_axis[c] = static_cast<float>(rows(2, c));
-    }
-    frames.push_back(frame);
+    frames.push_back(roundToSinglePrecision(rows));
   }
   HeightMapPatchExtractor extractor;
   extractor.setInputMesh(std::make_shared<const TriangleMesh>(relief));

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <map>
 
 using namespace pcl::patchdict;
@@ -65,14 +66,14 @@ TEST(QuadFrameEstimation, APlaneGridGetsOneFrameEverywhere)
   estimation.setInputQuadMesh(std::make_shared<const QuadMesh>(grid));
   estimation.setOverlap(1);
   std::vector<Eigen::Vector3d> seeds;
-  pcl::PointCloud<pcl::ReferenceFrame> frames;
+  std::vector<Eigen::Matrix3d> frames;
   std::vector<std::int32_t> seed_faces;
   estimation.compute(seeds, frames, &seed_faces);
   ASSERT_EQ(seeds.size(), 5u * n * n);
   ASSERT_EQ(frames.size(), seeds.size());
-  const Eigen::Matrix3d first = fromReferenceFrame(frames[0]);
+  const Eigen::Matrix3d first = frames[0];
   for (std::size_t s = 0; s < seeds.size(); ++s) {
-    const Eigen::Matrix3d r = fromReferenceFrame(frames[s]);
+    const Eigen::Matrix3d r = frames[s];
     EXPECT_LT((r - first).cwiseAbs().maxCoeff(), 1e-7);  // every X the same despite the rotated faces
     EXPECT_NEAR(r(2, 2), 1.0, 1e-7);
     EXPECT_NEAR(seeds[s].z(), 0.0, 1e-12);
@@ -103,26 +104,31 @@ TEST(QuadFrameEstimation, FramesOnASphereAreOrthonormalRadialAndConsistent)
   QuadFrameEstimation estimation;
   estimation.setInputQuadMesh(std::make_shared<const QuadMesh>(quads));
   std::vector<Eigen::Vector3d> seeds;
-  pcl::PointCloud<pcl::ReferenceFrame> frames;
-  estimation.compute(seeds, frames);
+  std::vector<Eigen::Matrix3d> frames;
+  std::vector<std::int32_t> seed_faces;
+  estimation.compute(seeds, frames, &seed_faces);
   ASSERT_GT(seeds.size(), 1000u);
+  const std::vector<Eigen::Matrix3d> face_frames = estimation.computeFaceFrames();
   std::size_t radial = 0;
   for (std::size_t s = 0; s < seeds.size(); ++s) {
-    const Eigen::Matrix3d r = fromReferenceFrame(frames[s]);
+    const Eigen::Matrix3d r = frames[s];
+    // The seed's frame is its face's, rounded to single precision, bit for bit.
+    const Eigen::Matrix3d rounded = roundToSinglePrecision(face_frames[static_cast<std::size_t>(seed_faces[s])]);
+    EXPECT_EQ(std::memcmp(r.data(), rounded.data(), sizeof(double) * 9), 0);
     EXPECT_LT((r * r.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 1e-5);
     EXPECT_GT(r.determinant(), 0.0);
     radial += r.row(2).dot(seeds[s].normalized()) > 0.9;
   }
   EXPECT_GE(static_cast<double>(radial) / seeds.size(), 0.95);
   // A sphere needs singularities, but most neighbouring quads must agree.
-  EXPECT_GE(consistentPairs(quads, estimation.computeFaceFrames(), 20.0 * kDegree), 0.9);
+  EXPECT_GE(consistentPairs(quads, face_frames, 20.0 * kDegree), 0.9);
 }
 
 TEST(QuadFrameEstimation, BadInput)
 {
   QuadFrameEstimation estimation;
   std::vector<Eigen::Vector3d> seeds;
-  pcl::PointCloud<pcl::ReferenceFrame> frames;
+  std::vector<Eigen::Matrix3d> frames;
   EXPECT_THROW(estimation.compute(seeds, frames), Error);
   const auto mesh = std::make_shared<QuadMesh>();  // shared: the edits below reach the estimation
   estimation.setInputQuadMesh(mesh);
@@ -184,13 +190,13 @@ TEST(PatchLayout, BunnyFramesMeetTheIssueBounds)
     const double area = (b - a).cross(c - a).norm();
     const double wa = (b - p).cross(c - p).norm() / area, wb = (c - p).cross(a - p).norm() / area;
     const Eigen::Vector3d n = (wa * normals[f[0]] + wb * normals[f[1]] + (1 - wa - wb) * normals[f[2]]).normalized();
-    agreeing += fromReferenceFrame(layout.frames[s]).row(2).dot(n.transpose()) > 0.9;
+    agreeing += layout.frames[s].row(2).dot(n.transpose()) > 0.9;
   }
   EXPECT_GE(static_cast<double>(agreeing) / layout.seeds.size(), 0.95);
   // X consistency of the frames the layout emits (each face's centre seed), not recomputed ones.
   std::vector<Eigen::Matrix3d> face_frames(layout.quads.faces.size(), Eigen::Matrix3d::Zero());
   for (std::size_t s = 0; s < layout.seeds.size(); ++s)
     if (layout.seed_faces[s] >= 0 && face_frames[layout.seed_faces[s]].isZero())
-      face_frames[layout.seed_faces[s]] = fromReferenceFrame(layout.frames[s]);
+      face_frames[layout.seed_faces[s]] = layout.frames[s];
   EXPECT_GE(consistentPairs(layout.quads, face_frames, 20.0 * kDegree), 0.9);
 }

@@ -2,11 +2,9 @@
 // (section 3.2 of Sarkar et al. 2017): exact heights from a mesh, or binned heights from a cloud.
 #pragma once
 
-#include <pcl_patchdict/patches/patch_set.h>
+#include <pcl_patchdict/core/local_frame.h>
 #include <pcl_patchdict/core/triangle_mesh.h>
-
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
+#include <pcl_patchdict/patches/patch_set.h>
 
 #include <Eigen/Core>
 
@@ -34,8 +32,10 @@ namespace patchdict {
   *    grid; the bin's value is the mean Z of its points.
   * Bins nothing covers are unobserved (mask false, height 0).
   *
-  * Frames must be orthonormal to single precision (they are used as given, not re-orthonormalised,
-  * so the stored rotation is exactly the one the heights were measured in). */
+  * Frames are the core's (rows X, Y, Z in double, core/local_frame.h; fromReferenceFrames converts
+  * PCL's). They must be orthonormal to single precision — the layout's frames are rounded to float
+  * (roundToSinglePrecision) — and are used as given, not re-orthonormalised, so the stored rotation
+  * is exactly the one the heights were measured in. */
 class HeightMapPatchExtractor {
 public:
   using Ptr = std::shared_ptr<HeightMapPatchExtractor>;
@@ -43,8 +43,8 @@ public:
 
   HeightMapPatchExtractor() = default;
 
-  /** Seeds and their frames (one pcl::ReferenceFrame per seed). */
-  void setSeeds(const std::vector<Eigen::Vector3d>& seeds, const pcl::PointCloud<pcl::ReferenceFrame>& frames);
+  /** Seeds and their frames (one per seed, rows X, Y, Z). */
+  void setSeeds(const std::vector<Eigen::Vector3d>& seeds, const std::vector<Eigen::Matrix3d>& frames);
   /** Exact heights from the mesh's triangles (clears a cloud set before). Shared: kept alive until replaced. */
   void setInputMesh(const std::shared_ptr<const TriangleMesh>& mesh);
   /** Binned heights from the vertices (faces ignored; clears a mesh set before). */
@@ -75,16 +75,16 @@ private:
   std::shared_ptr<const TriangleMesh> surface_;  ///< faces ignored in Mode::Cloud
   std::vector<Eigen::Vector3d> seeds_;
   std::vector<Eigen::Matrix3d> rotations_;
-  std::size_t num_frames_ = 0;
   double radius_ = 0.0;
   int grid_size_ = 16;
   int threads_ = 0;
   std::int32_t source_index_ = 0;
 };
 
-/** A right-handed frame whose Z is the given unit normal and whose X is an arbitrary (but
-  * deterministic) tangent: for callers without quad frames, e.g. seeds at random surface points. */
-pcl::ReferenceFrame referenceFrameFromNormal(const Eigen::Vector3d& normal);
+/** A right-handed frame (rows X, Y, Z) whose Z is the given unit normal and whose X is an arbitrary
+  * (but deterministic) tangent, rounded as the quads' frames (roundToSinglePrecision): for callers
+  * without quad frames, e.g. seeds at random surface points. */
+Eigen::Matrix3d frameFromNormal(const Eigen::Vector3d& normal);
 
 }  // namespace patchdict
 }  // namespace pcl

@@ -2,11 +2,9 @@
 // field-aligned quads (the paper's layout) or area-uniform random (a baseline); and their exact height maps.
 #pragma once
 
-#include <pcl_patchdict/patches/patch_set.h>
+#include <pcl_patchdict/core/local_frame.h>
 #include <pcl_patchdict/core/triangle_mesh.h>
-
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
+#include <pcl_patchdict/patches/patch_set.h>
 
 #include <cstdint>
 #include <string>
@@ -17,7 +15,7 @@ namespace patchdict {
 
 struct SeedsAndFrames {
   std::vector<Eigen::Vector3d> seeds;
-  pcl::PointCloud<pcl::ReferenceFrame> frames;  ///< one per seed
+  std::vector<Eigen::Matrix3d> frames;  ///< one per seed: rows X, Y, Z, rounded (core/local_frame.h)
 };
 
 enum class SeedPlacement {
@@ -28,7 +26,7 @@ enum class SeedPlacement {
 /** Seeds and frames for patches of side `quad_length` (radius quad_length / √2) at overlap level
   * `overlap` (the paper's k: a quad gives its centre and 4k offset seeds).
   * Quads (default): computePatchLayout on the mesh. Random: area-uniform random seeds (seeded,
-  * reproducible) with referenceFrameFromNormal at the surface normal interpolated from the vertex
+  * reproducible) with frameFromNormal at the surface normal interpolated from the vertex
   * normals, 12·(1 + 4k)/5 per L² of area — 12 per patch area at k = 1, what random seeds need to
   * leave almost no vertex uncovered (quad seeds do it with 5).
   * Throws Error for a mesh without area or parameters out of range. */

@@ -17,9 +17,8 @@ namespace patchdict {
   * Y — is row j·N + i of `heights`, so a column read row-major is the height map as an image.
   *
   * Frames are kept as rotation matrices whose rows are the frame's X, Y, Z axes (local =
-  * R·(p − s), world = s + Rᵀ·local, the T_s of section 3.1), in double: the pcl::ReferenceFrame
-  * the extractor receives converts to double exactly, and the reconstruction stage works in
-  * double, so it never has to go back through float[3] triplets. */
+  * R·(p − s), world = s + Rᵀ·local, the T_s of section 3.1), in double, the core's form of a frame
+  * (core/local_frame.h): the extractor stores the frames it receives as they are. */
 struct PatchSet {
   int grid_size = 0;        ///< N: a patch has N×N bins
   double radius = 0.0;      ///< r: patch side √2·r, neighbourhood radius r

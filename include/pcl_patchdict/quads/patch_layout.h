@@ -28,8 +28,8 @@ struct PatchLayout {
   TriangleMesh coarse;  ///< the smoothed shape the quads are laid on
   QuadMesh quads;
   std::vector<Eigen::Vector3d> seeds;
-  pcl::PointCloud<pcl::ReferenceFrame> frames;  ///< one per seed
-  std::vector<std::int32_t> seed_faces;         ///< the quad-mesh face of each seed (−1: coverage seed)
+  std::vector<Eigen::Matrix3d> frames;   ///< one per seed: rows X, Y, Z, rounded (core/local_frame.h)
+  std::vector<std::int32_t> seed_faces;  ///< the quad-mesh face of each seed (−1: coverage seed)
   CoarseMeshEstimation::Report coarse_report;
   QuadRemesher::Report quad_report;
   std::size_t coverage_seeds = 0;  ///< seeds added where no quad's patch reaches (seed_faces −1)

@@ -3,11 +3,8 @@
 // consistent across the mesh by a breadth-first traversal.
 #pragma once
 
+#include <pcl_patchdict/core/local_frame.h>
 #include <pcl_patchdict/quads/quad_mesh.h>
-#include <pcl_patchdict/pcl/reference_frame.h>
-
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
 
 #include <cstdint>
 #include <memory>
@@ -16,8 +13,9 @@
 namespace pcl {
 namespace patchdict {
 
-/** \brief Estimator of pcl::ReferenceFrames on a quad mesh, in the shape of
-  * pcl::SHOTLocalReferenceFrameEstimation (input, parameters, compute(frames)).
+/** \brief Estimator of local reference frames on a quad mesh, in the shape of
+  * pcl::SHOTLocalReferenceFrameEstimation (input, parameters, compute(frames)); frames are the
+  * core's (rows X, Y, Z in double, core/local_frame.h), toReferenceFrames gives PCL's.
   *
   * Every face gives its centre as a seed (the paper uses quads; the few triangles and larger
   * faces of a quad-dominant mesh get seeds too, so no part of the surface is left without one);
@@ -42,14 +40,16 @@ public:
   void setOverlap(int overlap) { overlap_ = overlap; }
   int getOverlap() const { return overlap_; }
 
-  /** Seeds (face by face: the centre, then the offsets) and one frame per seed; `seed_faces`,
+  /** Seeds (face by face: the centre, then the offsets) and one frame per seed, rounded to single
+    * precision (roundToSinglePrecision: the frames every output was measured in); `seed_faces`,
     * if given, receives the face of each seed. Throws Error for a missing input, an overlap
     * outside [0, 16], an out-of-range index, or a mesh without faces. Degenerate faces (zero
     * normal) give no seeds. */
-  void compute(std::vector<Eigen::Vector3d>& seeds, pcl::PointCloud<pcl::ReferenceFrame>& frames,
+  void compute(std::vector<Eigen::Vector3d>& seeds, std::vector<Eigen::Matrix3d>& frames,
                std::vector<std::int32_t>* seed_faces = nullptr) const;
 
-  /** The frame of every face (rows X, Y, Z), without seeds; a degenerate face gets a zero matrix. */
+  /** The frame of every face (rows X, Y, Z, not rounded), without seeds; a degenerate face gets a
+    * zero matrix. */
   std::vector<Eigen::Matrix3d> computeFaceFrames() const;
 
 private:

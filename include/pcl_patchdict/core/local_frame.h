@@ -1,0 +1,23 @@
+// Local reference frames in double precision, the form every stage passes them in: a frame is an
+// Eigen::Matrix3d whose rows are its X, Y, Z axes (local = R·(p − s), world = s + Rᵀ·local), a
+// list of frames a std::vector<Eigen::Matrix3d> (one per seed), as PatchSet::rotations.
+// pcl::ReferenceFrame appears only at the PCL boundary (pcl/reference_frame.h).
+#pragma once
+
+#include <Eigen/Core>
+
+namespace pcl {
+namespace patchdict {
+
+/** Every entry rounded to the nearest float and back to double — bit for bit what a round trip
+  * through pcl::ReferenceFrame's float[3] axes gives (fromReferenceFrame(toReferenceFrame(frame))).
+  *
+  * Frames are rounded once where they are made (QuadFrameEstimation::compute, the layout's
+  * coverage seeds, frameFromNormal, the codec's coverage frames), where they used to pass through
+  * pcl::ReferenceFrame: the height maps are measured in the rounded frame, so outputs stay the
+  * bytes they were, and version-3 .pdc files, whose decoder re-derives the same frames, decode
+  * byte-identically. Rounding a rounded frame changes nothing. */
+Eigen::Matrix3d roundToSinglePrecision(const Eigen::Matrix3d& frame);
+
+}  // namespace patchdict
+}  // namespace pcl
