@@ -238,18 +238,18 @@ void checkHoleRepairOptions(const HoleRepairOptions& p)
       throw Error("relief probe factors must be > 0");
 }
 
-void fillHolesWithPatches(const TriangleMesh& input, TriangleMesh& out, const HoleRepairOptions& options,
+void fillHolesWithPatches(const TriangleMesh& input, TriangleMesh& out, const HoleRepairOptions& p,
                           HoleRepairReport* report)
 {
   HoleRepairReport local_report;
   HoleRepairReport& r = detail::freshReport(report, local_report);
-  checkHoleRepairOptions(options);
+  checkHoleRepairOptions(p);
   const UnitCubeNormalization normalization = detail::checkedNormalization(input);
-  const HoleRepairOptions& p = options;
-  const std::size_t n = input.numVertices();
 
+  // Base: Liepa's fill of the input (normals dropped); the new vertices are the ones after n.
   auto t = Clock::now();
   HoleFilling filling = p.filling;
+  const std::size_t n = input.numVertices();
   auto input_without_normals = std::make_shared<TriangleMesh>(input);
   input_without_normals->normals.clear();
   filling.setInputMesh(input_without_normals);

@@ -138,21 +138,19 @@ TEST(CliOptions, DefaultsAreTheLibrarys)
 {
   const auto checkShared = [](const std::string& command, const PatchRepairCommon& p) {
     SCOPED_TRACE(command);
-    EXPECT_EQ(realDefault(command, "quad-length"), p.quad_length);
-    EXPECT_EQ(realDefault(command, "quad-factor"), p.quad_length_factor);
-    EXPECT_EQ(intDefault(command, "sparsity"), p.sparsity);
-    EXPECT_EQ(intDefault(command, "overlap"), p.overlap);
-    EXPECT_EQ(intDefault(command, "smoothing-iterations"), p.smoothing_iterations);
-    EXPECT_EQ(intDefault(command, "atoms"), p.self_similar_atoms);
+    const std::vector<std::pair<const char*, double>> reals{
+        {"quad-length", p.quad_length},   {"quad-factor", p.quad_length_factor}, {"patch-scale", p.patch_scale},
+        {"centre-sigma", p.centre_sigma}, {"observed-power", p.observed_power},  {"fit-scale", p.fit_scale},
+        {"agreement-scale", p.agreement_scale}, {"min-observed", p.min_observed_fraction}};
+    for (const auto& [name, value] : reals)
+      EXPECT_EQ(realDefault(command, name), value) << name;
+    const std::vector<std::pair<const char*, long long>> integers{
+        {"sparsity", p.sparsity}, {"overlap", p.overlap}, {"smoothing-iterations", p.smoothing_iterations},
+        {"atoms", p.self_similar_atoms}, {"seed", static_cast<long long>(p.seed)}};
+    for (const auto& [name, value] : integers)
+      EXPECT_EQ(intDefault(command, name), value) << name;
     EXPECT_FALSE(optionOf(command, "grid").has_default);  // the dictionary's: p.grid_size 0
     EXPECT_EQ(p.grid_size, 0);
-    EXPECT_EQ(realDefault(command, "patch-scale"), p.patch_scale);
-    EXPECT_EQ(realDefault(command, "centre-sigma"), p.centre_sigma);
-    EXPECT_EQ(realDefault(command, "observed-power"), p.observed_power);
-    EXPECT_EQ(realDefault(command, "fit-scale"), p.fit_scale);
-    EXPECT_EQ(realDefault(command, "agreement-scale"), p.agreement_scale);
-    EXPECT_EQ(realDefault(command, "min-observed"), p.min_observed_fraction);
-    EXPECT_EQ(static_cast<std::uint64_t>(intDefault(command, "seed")), p.seed);
   };
   checkShared("inpaint", MissingVerticesOptions());
   checkShared("fill-holes", HoleRepairOptions());
