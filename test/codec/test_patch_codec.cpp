@@ -12,6 +12,8 @@
 
 #include "test_support.h"
 
+#include "codec_test_fixtures.h"
+
 #include <gtest/gtest.h>
 
 #include <omp.h>
@@ -27,17 +29,11 @@
 #include <iterator>
 
 using namespace pcl::patchdict;
+using namespace codec_test;
 using test_support::q;
 using test_support::runTool;
 
 namespace {
-
-TriangleMesh loadBunny()
-{
-  TriangleMesh bunny;
-  readMesh(test_support::dataDir() + "/bunny.obj", bunny);
-  return bunny;
-}
 
 /** The bunny's patches the codec tests' dictionary is learned from: 16×16 of side 0.08 on its
   * quad layout (unit cube). */
@@ -70,21 +66,6 @@ PatchDictionary::Ptr learnBunnyDictionary(const TriangleMesh& bunny, std::uint64
   dictionary->setSeed(seed);
   dictionary->learn(patches.heights, patches.observed);
   return dictionary;
-}
-
-std::string bunnyDictionaryPath() { return test_support::testDataDir() + "/bunny_local48.pdd"; }
-
-/** learnBunnyDictionary(bunny, 1) as stored in test/data, so that the codec tests do not each learn
-  * it again; FixtureDictionaryIsTheBunnysOwn learns it once (1.8 s, 23.8 s under the sanitizers,
-  * learning and checking), checks the fixture and rewrites it with PCL_PATCHDICT_WRITE_FIXTURES=1. */
-PatchDictionary::Ptr bunnyDictionary() { return PatchDictionary::load(bunnyDictionaryPath(), 16); }
-
-PatchCodecParameters bunnyParameters()
-{
-  PatchCodecParameters parameters;
-  parameters.quad_length = 0.064;  // patch side 0.08
-  parameters.coefficients = 12;
-  return parameters;
 }
 
 }  // namespace

@@ -11,6 +11,8 @@
 
 #include "test_support.h"
 
+#include "hole_test_shapes.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -27,6 +29,7 @@
 #include <random>
 
 using namespace pcl::patchdict;
+using namespace hole_test;
 using test_support::runTool;
 
 namespace {
@@ -107,20 +110,6 @@ void randomLoop(std::mt19937& rng, int n, std::vector<Eigen::Vector3d>& loop, st
   }
 }
 
-// ---------------------------------------------------------------- meshes with holes
-// Keeps the faces for which keep(centroid) holds and drops vertices no face uses.
-template <typename Keep>
-TriangleMesh cutFaces(const TriangleMesh& mesh, Keep keep)
-{
-  TriangleMesh out = mesh;
-  out.faces.clear();
-  for (const Face& f : mesh.faces)
-    if (keep(f))
-      out.faces.push_back(f);
-  cleanMesh(out);
-  return out;
-}
-
 // A tilted square grid (side 1, n × n quads) with a round hole of the given radius at its centre.
 TriangleMesh tiltedPlaneWithHole(int n, double radius, Eigen::Matrix3d& rotation)
 {
@@ -135,19 +124,6 @@ TriangleMesh tiltedPlaneWithHole(int n, double radius, Eigen::Matrix3d& rotation
   for (auto& p : holed.vertices)
     p = rotation * p + Eigen::Vector3d(0.1, -0.2, 0.3);
   return holed;
-}
-
-// A unit icosphere with every face removed that has a vertex within `radius` of each centre.
-TriangleMesh sphereWithHoles(int levels, double radius, const std::vector<Eigen::Vector3d>& centres)
-{
-  const TriangleMesh sphere = makeIcosphere(levels, 1.0);
-  return cutFaces(sphere, [&](const Face& f) {
-    for (const std::int32_t v : f)
-      for (const auto& c : centres)
-        if ((sphere.vertices[v] - c).norm() < radius)
-          return false;
-    return true;
-  });
 }
 
 double meanEdgeOfFaces(const TriangleMesh& mesh, const std::vector<std::int32_t>& faces)

@@ -11,6 +11,8 @@
 
 #include "test_support.h"
 
+#include "hole_test_shapes.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -27,41 +29,12 @@
 #include <random>
 
 using namespace pcl::patchdict;
+using namespace hole_test;
 using test_support::endsWithOneErrorLine;
 using test_support::isOneLine;
 using test_support::q;
 using test_support::runTool;
 
-namespace {
-
-// ---------------------------------------------------------------- meshes with holes
-// Keeps the faces for which keep(centroid) holds and drops vertices no face uses.
-template <typename Keep>
-TriangleMesh cutFaces(const TriangleMesh& mesh, Keep keep)
-{
-  TriangleMesh out = mesh;
-  out.faces.clear();
-  for (const Face& f : mesh.faces)
-    if (keep(f))
-      out.faces.push_back(f);
-  cleanMesh(out);
-  return out;
-}
-
-// A unit icosphere with every face removed that has a vertex within `radius` of each centre.
-TriangleMesh sphereWithHoles(int levels, double radius, const std::vector<Eigen::Vector3d>& centres)
-{
-  const TriangleMesh sphere = makeIcosphere(levels, 1.0);
-  return cutFaces(sphere, [&](const Face& f) {
-    for (const std::int32_t v : f)
-      for (const auto& c : centres)
-        if ((sphere.vertices[v] - c).norm() < radius)
-          return false;
-    return true;
-  });
-}
-
-}  // namespace
 
 TEST(HoleFillingCli, FillsHolesKeepsInputVerticesAndReportsJson)
 {
