@@ -17,14 +17,14 @@ import zlib
 
 import numpy as np
 
-import real_scans
+import real_scans_common
 
 
 def read_pcd(path):
-    """-> (x, y, z as float64 arrays, width, height), through real_scans.py's reader."""
+    """-> (x, y, z as float64 arrays, width, height), through real_scans_common.py's reader."""
     with tempfile.TemporaryDirectory() as tmp:
-        arr, info = real_scans.read_pcd(path, tmp)
-    P = real_scans.xyz(arr)
+        arr, info = real_scans_common.read_pcd(path, tmp)
+    P = real_scans_common.xyz(arr)
     return P[:, 0], P[:, 1], P[:, 2], info['width'], info['height']
 
 

@@ -23,8 +23,8 @@ import tempfile
 import numpy as np
 from scipy.spatial import cKDTree
 
-from real_scans import (PLANE_THRESHOLD, ROUGHNESS_POINTS, ROUGHNESS_RADIUS, finite_rows, largest_plane,
-                        read_pcd, xyz)
+from real_scans_common import (PLANE_THRESHOLD, ROUGHNESS_POINTS, ROUGHNESS_RADIUS, finite_rows, largest_plane,
+                               read_pcd, xyz)
 
 
 def table_heights(P, region_rows):
