@@ -11,6 +11,7 @@
 #include <exception>
 #include <limits>
 #include <set>
+#include <utility>
 #include <vector>
 
 #include <pcl/PolygonMesh.h>
@@ -53,30 +54,39 @@ std::uint32_t loadU32LE(const unsigned char* data)
          (static_cast<std::uint32_t>(data[2]) << 16) | (static_cast<std::uint32_t>(data[3]) << 24);
 }
 
-// PCL's reader crashes on some malformed headers (e.g. one without FIELDS or POINTS) and reads
-// unparsable ascii values as 0, so the file is checked here first: a consistent header, a body of
-// the size it promises, and (ascii) every value a number, one point per line.
-void checkPcd(const std::string& path, std::string_view bytes)
-{
+/** What checkPcd reads of a PCD header: its lines up to DATA, as PCL would read them. */
+struct PcdHeader {
   std::vector<std::string_view> fields, sizes, types, counts;
   std::uint64_t width = 0, height = 1, points = 0;
   bool have_width = false, have_height = false, have_points = false;
-  std::set<std::string> seen;
   std::string_view data_kind;
-  std::size_t pos = 0, line_number = 0;
-  auto number = [&](std::string_view token, std::uint64_t& out) {
-    std::int64_t value = 0;
-    if (!parseInt(token, value) || value < 0)
-      failReadLine(path, line_number, "bad number " + quoted(token) + " in the PCD header");
-    out = static_cast<std::uint64_t>(value);
-  };
-  while (data_kind.empty()) {
+  std::size_t body_start = 0;  ///< the byte after the DATA line
+  std::size_t lines = 0;       ///< header lines read
+};
+
+/** A header number (≥ 0), or an error naming the line. */
+std::uint64_t headerNumber(const std::string& path, std::size_t line_number, std::string_view token)
+{
+  std::int64_t value = 0;
+  if (!parseInt(token, value) || value < 0)
+    failReadLine(path, line_number, "bad number " + quoted(token) + " in the PCD header");
+  return static_cast<std::uint64_t>(value);
+}
+
+/** The header lines up to DATA: each keyword once, no white space or '#' where PCL misreads them. */
+PcdHeader readPcdHeader(const std::string& path, std::string_view bytes)
+{
+  PcdHeader h;
+  std::set<std::string> seen;
+  std::size_t pos = 0;
+  while (h.data_kind.empty()) {
     if (pos >= bytes.size())
       failRead(path, "not a valid PCD file (no DATA line)");
     const std::size_t newline = bytes.find('\n', pos);
     const std::size_t line_end = newline == std::string_view::npos ? bytes.size() : newline;
     const std::string_view text = bytes.substr(pos, line_end - pos);
-    TextCursor cursor(text, ++line_number, '#');
+    const std::size_t line_number = ++h.lines;
+    TextCursor cursor(text, line_number, '#');
     pos = line_end + 1;
     // As PCL reads a header: a line starting with '#' is a comment, and a line starting with white
     // space ends the header (PCL then crashes on what it has not read); empty lines are refused too.
@@ -93,101 +103,129 @@ void checkPcd(const std::string& path, std::string_view bytes)
     // Each keyword once: PCL keeps the last of repeated lines, and misreads files where they disagree.
     if (!seen.insert(std::string(keyword)).second)
       failReadLine(path, line_number, "repeated PCD header line " + quoted(keyword));
-    if (keyword == "FIELDS" || keyword == "COLUMNS") fields = values;
-    else if (keyword == "SIZE") sizes = values;
-    else if (keyword == "TYPE") types = values;
-    else if (keyword == "COUNT") counts = values;
+    const bool one = values.size() == 1;
+    if (keyword == "FIELDS" || keyword == "COLUMNS") h.fields = values;
+    else if (keyword == "SIZE") h.sizes = values;
+    else if (keyword == "TYPE") h.types = values;
+    else if (keyword == "COUNT") h.counts = values;
     else if (keyword == "VERSION" || keyword == "VIEWPOINT") continue;
-    else if (keyword == "WIDTH" && values.size() == 1) { number(values[0], width); have_width = true; }
-    else if (keyword == "HEIGHT" && values.size() == 1) { number(values[0], height); have_height = true; }
-    else if (keyword == "POINTS" && values.size() == 1) { number(values[0], points); have_points = true; }
-    else if (keyword == "DATA" && values.size() == 1 &&
+    else if (keyword == "WIDTH" && one) { h.width = headerNumber(path, line_number, values[0]); h.have_width = true; }
+    else if (keyword == "HEIGHT" && one) { h.height = headerNumber(path, line_number, values[0]); h.have_height = true; }
+    else if (keyword == "POINTS" && one) { h.points = headerNumber(path, line_number, values[0]); h.have_points = true; }
+    else if (keyword == "DATA" && one &&
              (values[0] == "ascii" || values[0] == "binary" || values[0] == "binary_compressed"))
-      data_kind = values[0];
+      h.data_kind = values[0];
     else
       failReadLine(path, line_number, "unexpected PCD header line starting with " + quoted(keyword));
   }
-  if (fields.empty() || sizes.size() != fields.size() || types.size() != fields.size() ||
-      (!counts.empty() && counts.size() != fields.size()))
+  h.body_start = pos;
+  return h;
+}
+
+/** The fields' sizes, types and counts, and the point count: consistent and supported. Returns
+  * {bytes per point, values per point}. */
+std::pair<std::uint64_t, std::uint64_t> checkPcdLayout(const std::string& path, PcdHeader& h)
+{
+  if (h.fields.empty() || h.sizes.size() != h.fields.size() || h.types.size() != h.fields.size() ||
+      (!h.counts.empty() && h.counts.size() != h.fields.size()))
     failRead(path, "PCD header: FIELDS, SIZE, TYPE and COUNT do not match");
   std::uint64_t point_bytes = 0, values_per_point = 0;
-  for (std::size_t f = 0; f < fields.size(); ++f) {
-    std::uint64_t size = 0, count = 1;
-    number(sizes[f], size);
-    if (!counts.empty())
-      number(counts[f], count);
-    const bool valid_type = (types[f] == "F" && (size == 4 || size == 8)) ||
-                            ((types[f] == "I" || types[f] == "U") && (size == 1 || size == 2 || size == 4));
+  for (std::size_t f = 0; f < h.fields.size(); ++f) {
+    const std::uint64_t size = headerNumber(path, h.lines, h.sizes[f]);
+    const std::uint64_t count = h.counts.empty() ? 1 : headerNumber(path, h.lines, h.counts[f]);
+    const bool valid_type = (h.types[f] == "F" && (size == 4 || size == 8)) ||
+                            ((h.types[f] == "I" || h.types[f] == "U") && (size == 1 || size == 2 || size == 4));
     if (!valid_type || count == 0 || count > 1000000)
-      failRead(path, "PCD header: unsupported field " + quoted(fields[f]));
+      failRead(path, "PCD header: unsupported field " + quoted(h.fields[f]));
     point_bytes += size * count;
     values_per_point += count;
   }
   // PCL reads garbage (and once asked for a 100 TB string) when WIDTH, HEIGHT or POINTS is missing.
-  if (!have_width || !have_height || !have_points)
+  if (!h.have_width || !h.have_height || !h.have_points)
     failRead(path, "PCD header: WIDTH, HEIGHT and POINTS are all required");
-  if (height != 0 && width > std::numeric_limits<std::uint32_t>::max() / height)
+  if (h.height != 0 && h.width > std::numeric_limits<std::uint32_t>::max() / h.height)
     failRead(path, "PCD header: bad WIDTH/HEIGHT");
-  if (points != width * height)
+  if (h.points != h.width * h.height)
     failRead(path, "PCD header: POINTS is not WIDTH x HEIGHT");
-  points = width * height;
-  if (points == 0)
+  h.points = h.width * h.height;
+  if (h.points == 0)
     failRead(path, "the PCD file holds no points");
+  return {point_bytes, values_per_point};
+}
 
-  // PCL's header loop goes on reading lines after DATA while they are empty, comments, or start
-  // with a header keyword (matched as a prefix), so binary data beginning with, say, "FIELDS…" is
-  // parsed as a new header (and once made PCL ask for a 100 TB string). Refuse what it would misread.
-  if (data_kind != "ascii") {
-    static const char* const keywords[] = {"VERSION", "FIELDS", "COLUMNS", "SIZE",   "TYPE", "COUNT",
-                                           "WIDTH",   "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
-    for (std::size_t at = pos; at < bytes.size();) {
-      const std::size_t newline = bytes.find('\n', at);
-      const std::string_view line = bytes.substr(at, newline == std::string_view::npos ? bytes.npos : newline - at);
-      const std::string_view first = line.substr(0, line.find_first_of("\t\r "));
-      for (const char* keyword : keywords)
-        if (first.substr(0, std::char_traits<char>::length(keyword)) == keyword)
-          failRead(path, "PCD binary data starts like a header line (" + quoted(first) +
-                             "), which PCL would read as one");
-      if (!line.empty() && line[0] != '#')
-        break;
-      if (newline == std::string_view::npos)
-        break;
-      at = newline + 1;
-    }
+/** PCL's header loop goes on reading lines after DATA while they are empty, comments, or start
+  * with a header keyword (matched as a prefix), so binary data beginning with, say, "FIELDS…" is
+  * parsed as a new header (and once made PCL ask for a 100 TB string). Refuses what it would misread. */
+void refuseHeaderLikeData(const std::string& path, std::string_view bytes, std::size_t pos)
+{
+  static const char* const keywords[] = {"VERSION", "FIELDS", "COLUMNS", "SIZE",   "TYPE", "COUNT",
+                                         "WIDTH",   "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
+  for (std::size_t at = pos; at < bytes.size();) {
+    const std::size_t newline = bytes.find('\n', at);
+    const std::string_view line = bytes.substr(at, newline == std::string_view::npos ? bytes.npos : newline - at);
+    const std::string_view first = line.substr(0, line.find_first_of("\t\r "));
+    for (const char* keyword : keywords)
+      if (first.substr(0, std::char_traits<char>::length(keyword)) == keyword)
+        failRead(path, "PCD binary data starts like a header line (" + quoted(first) +
+                           "), which PCL would read as one");
+    if (!line.empty() && line[0] != '#')
+      break;
+    if (newline == std::string_view::npos)
+      break;
+    at = newline + 1;
   }
+}
 
+/** Ascii data: every value a number, one point of `values_per_point` values per line (blank lines
+  * skipped, as PCL reads it). */
+void checkPcdAsciiBody(const std::string& path, std::string_view body, std::size_t first_line, std::uint64_t points,
+                       std::uint64_t values_per_point)
+{
+  TextCursor data(body, first_line);
+  std::string_view token;
+  for (std::uint64_t point = 0; point < points; ++point) {
+    std::uint64_t values = 0;
+    double value = 0.0;
+    while (values == 0) {
+      if (data.atEnd())
+        failRead(path, "truncated: " + std::to_string(point) + " of " + std::to_string(points) + " points present");
+      for (; data.nextOnLine(token); ++values)
+        if (!parseDouble(token, value))
+          failReadLine(path, data.line(), "bad number " + quoted(token));
+      if (values == 0)
+        data.skipLine();
+    }
+    if (values != values_per_point)
+      failReadLine(path, data.line(), "a point has " + std::to_string(values) + " values, expected " +
+                                          std::to_string(values_per_point));
+    data.skipLine();
+  }
+}
+
+// PCL's reader crashes on some malformed headers (e.g. one without FIELDS or POINTS) and reads
+// unparsable ascii values as 0, so the file is checked here first: a consistent header, a body of
+// the size it promises, and (ascii) every value a number, one point per line.
+void checkPcd(const std::string& path, std::string_view bytes)
+{
+  PcdHeader header = readPcdHeader(path, bytes);
+  const auto [point_bytes, values_per_point] = checkPcdLayout(path, header);
+  const std::size_t pos = header.body_start;
+  const std::uint64_t points = header.points;
+  if (header.data_kind != "ascii")
+    refuseHeaderLikeData(path, bytes, pos);
   const std::size_t remaining = pos < bytes.size() ? bytes.size() - pos : 0;
   const auto* body = reinterpret_cast<const unsigned char*>(bytes.data()) + std::min(pos, bytes.size());
-  if (data_kind == "binary") {
+  if (header.data_kind == "binary") {
     if (points > remaining / point_bytes)
       failRead(path, "truncated: " + std::to_string(points) + " points declared, " +
                          std::to_string(remaining / point_bytes) + " present");
   }
-  else if (data_kind == "binary_compressed") {
+  else if (header.data_kind == "binary_compressed") {
     if (remaining < 8 || loadU32LE(body) > remaining - 8 || loadU32LE(body + 4) != points * point_bytes)
       failRead(path, "truncated or corrupt compressed PCD data");
   }
   else {
-    TextCursor data(bytes.substr(std::min(pos, bytes.size())), line_number + 1);
-    std::string_view token;
-    for (std::uint64_t point = 0; point < points; ++point) {
-      std::uint64_t values = 0;
-      double value = 0.0;
-      // One point per line, blank lines skipped (as PCL reads it).
-      while (values == 0) {
-        if (data.atEnd())
-          failRead(path, "truncated: " + std::to_string(point) + " of " + std::to_string(points) + " points present");
-        for (; data.nextOnLine(token); ++values)
-          if (!parseDouble(token, value))
-            failReadLine(path, data.line(), "bad number " + quoted(token));
-        if (values == 0)
-          data.skipLine();
-      }
-      if (values != values_per_point)
-        failReadLine(path, data.line(), "a point has " + std::to_string(values) + " values, expected " +
-                                            std::to_string(values_per_point));
-      data.skipLine();
-    }
+    checkPcdAsciiBody(path, bytes.substr(std::min(pos, bytes.size())), header.lines + 1, points, values_per_point);
   }
 }
 
