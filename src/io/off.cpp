@@ -4,6 +4,7 @@
 #include "io/formats.h"
 
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace pcl {
@@ -43,17 +44,13 @@ private:
   std::size_t line_ = 0;
 };
 
-}  // namespace
-
-void readOff(const std::string& path, std::string_view bytes, TriangleMesh& mesh, ReadInfo& info)
+/** The header keyword [ST][C][N]OFF on the first data line (the cursor left after it); whether
+  * the vertices carry normals. */
+bool readOffKeyword(const std::string& path, DataLines& lines, TextCursor& cursor)
 {
-  DataLines lines(bytes);
-  TextCursor cursor(std::string_view{}, 0);
   std::string_view token;
   if (!lines.next(cursor) || !cursor.nextOnLine(token))
     failRead(path, "not an OFF file (no header)");
-
-  // Header keyword: [ST][C][N][4][n]OFF.
   if (token.size() < 3 || token.substr(token.size() - 3) != "OFF")
     failReadLine(path, lines.line(), "not an OFF file (header " + quoted(token) + ")");
   std::string_view prefix = token.substr(0, token.size() - 3);
@@ -68,15 +65,18 @@ void readOff(const std::string& path, std::string_view bytes, TriangleMesh& mesh
   const bool has_normals = take("N");
   if (!prefix.empty())
     failReadLine(path, lines.line(), "unsupported OFF variant " + quoted(token) + " (only [ST][C][N]OFF)");
+  return has_normals;
+}
 
-  // Counts: on the header line or on the next data line.
+/** The vertex and face counts, on the header line or on the next data line; checked against the
+  * bytes that follow before anything is allocated. */
+std::pair<std::uint64_t, std::uint64_t> readOffCounts(const std::string& path, DataLines& lines, TextCursor& cursor)
+{
+  std::string_view token;
   std::int64_t counts[3] = {0, 0, 0};
   int num_counts = 0;
-  bool counts_on_header = cursor.nextOnLine(token);
-  if (!counts_on_header) {
-    if (!lines.next(cursor) || !cursor.nextOnLine(token))
-      failRead(path, "truncated: no vertex/face counts after the OFF header");
-  }
+  if (!cursor.nextOnLine(token) && (!lines.next(cursor) || !cursor.nextOnLine(token)))
+    failRead(path, "truncated: no vertex/face counts after the OFF header");
   do {
     if (token == "BINARY")
       failReadLine(path, lines.line(), "binary OFF is not supported");
@@ -97,8 +97,14 @@ void readOff(const std::string& path, std::string_view bytes, TriangleMesh& mesh
     failRead(path, "truncated: the header declares " + std::to_string(num_vertices) + " vertices and " +
                        std::to_string(num_faces) + " faces but only " + std::to_string(remaining) +
                        " bytes follow");
+  return {num_vertices, num_faces};
+}
 
-  TriangleMesh result;
+/** One vertex a line: x y z (and nx ny nz with normals); whatever follows is not ours to keep. */
+void readOffVertices(const std::string& path, DataLines& lines, TextCursor& cursor, std::uint64_t num_vertices,
+                     bool has_normals, TriangleMesh& result)
+{
+  std::string_view token;
   result.vertices.resize(num_vertices);
   if (has_normals)
     result.normals.resize(num_vertices);
@@ -120,9 +126,14 @@ void readOff(const std::string& path, std::string_view bytes, TriangleMesh& mesh
     }
     if (!result.vertices[i].allFinite())
       failReadLine(path, lines.line(), "vertex " + std::to_string(i) + " has a non-finite coordinate");
-    // Whatever follows (colours, texture coordinates) is not ours to keep.
   }
+}
 
+/** One face a line: its corner count and indices, fan-triangulated. */
+void readOffFaces(const std::string& path, DataLines& lines, TextCursor& cursor, std::uint64_t num_vertices,
+                  std::uint64_t num_faces, TriangleMesh& result, ReadInfo& info)
+{
+  std::string_view token;
   result.faces.reserve(num_faces);
   std::vector<std::int32_t> corners;
   for (std::size_t f = 0; f < num_faces; ++f) {
@@ -150,6 +161,19 @@ void readOff(const std::string& path, std::string_view bytes, TriangleMesh& mesh
     for (std::size_t c = 2; c < corners.size(); ++c)  // fan triangulation
       result.faces.push_back({corners[0], corners[c - 1], corners[c]});
   }
+}
+
+}  // namespace
+
+void readOff(const std::string& path, std::string_view bytes, TriangleMesh& mesh, ReadInfo& info)
+{
+  DataLines lines(bytes);
+  TextCursor cursor(std::string_view{}, 0);
+  const bool has_normals = readOffKeyword(path, lines, cursor);
+  const auto [num_vertices, num_faces] = readOffCounts(path, lines, cursor);
+  TriangleMesh result;
+  readOffVertices(path, lines, cursor, num_vertices, has_normals, result);
+  readOffFaces(path, lines, cursor, num_vertices, num_faces, result, info);
   // Normals are optional, derived data: broken ones are dropped rather than failing the file.
   for (const Eigen::Vector3d& n : result.normals)
     if (!n.allFinite()) {
