@@ -109,9 +109,18 @@ PcdHeader readPcdHeader(const std::string& path, std::string_view bytes)
     else if (keyword == "TYPE") h.types = values;
     else if (keyword == "COUNT") h.counts = values;
     else if (keyword == "VERSION" || keyword == "VIEWPOINT") continue;
-    else if (keyword == "WIDTH" && one) { h.width = headerNumber(path, line_number, values[0]); h.have_width = true; }
-    else if (keyword == "HEIGHT" && one) { h.height = headerNumber(path, line_number, values[0]); h.have_height = true; }
-    else if (keyword == "POINTS" && one) { h.points = headerNumber(path, line_number, values[0]); h.have_points = true; }
+    else if (keyword == "WIDTH" && one) {
+      h.width = headerNumber(path, line_number, values[0]);
+      h.have_width = true;
+    }
+    else if (keyword == "HEIGHT" && one) {
+      h.height = headerNumber(path, line_number, values[0]);
+      h.have_height = true;
+    }
+    else if (keyword == "POINTS" && one) {
+      h.points = headerNumber(path, line_number, values[0]);
+      h.have_points = true;
+    }
     else if (keyword == "DATA" && one &&
              (values[0] == "ascii" || values[0] == "binary" || values[0] == "binary_compressed"))
       h.data_kind = values[0];

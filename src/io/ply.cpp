@@ -317,36 +317,90 @@ void appendBinary(std::string& out, double value, bool as_float)
   }
 }
 
+/** Where the vertex element keeps x, y, z (scalar properties, required) and nx, ny, nz (all three
+  * scalar, or no normals). */
+struct PlyVertexLayout {
+  const PlyElement* element = nullptr;
+  int xyz[3] = {-1, -1, -1}, normal[3] = {-1, -1, -1};
+  bool has_normals = true;
+  std::size_t count = 0;
+};
+
+PlyVertexLayout vertexLayout(const std::string& path, const PlyHeader& header)
+{
+  PlyVertexLayout layout;
+  for (const PlyElement& element : header.elements)
+    if (element.name == "vertex") {
+      if (layout.element)
+        failReadLine(path, element.header_line, "a second vertex element");
+      layout.element = &element;
+    }
+  if (!layout.element)
+    failRead(path, "PLY header declares no vertex element");
+  const PlyElement& vertex = *layout.element;
+  const char* xyz_names[3] = {"x", "y", "z"};
+  const char* normal_names[3] = {"nx", "ny", "nz"};
+  for (int k = 0; k < 3; ++k) {
+    layout.xyz[k] = findProperty(vertex, xyz_names[k]);
+    if (layout.xyz[k] < 0 || vertex.properties[layout.xyz[k]].is_list)
+      failReadLine(path, vertex.header_line,
+                   std::string("vertex element has no scalar property '") + xyz_names[k] + "'");
+    layout.normal[k] = findProperty(vertex, normal_names[k]);
+    layout.has_normals = layout.has_normals && layout.normal[k] >= 0 && !vertex.properties[layout.normal[k]].is_list;
+  }
+  if (vertex.count > static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max()))
+    failRead(path, "too many vertices (" + std::to_string(vertex.count) + ")");
+  layout.count = static_cast<std::size_t>(vertex.count);
+  return layout;
+}
+
+/** The face element's list of corners (vertex_indices, or vertex_index); room reserved for as
+  * many faces as the bytes left can hold. */
+int faceListProperty(const std::string& path, const PlyElement& element, const PlyDataReader& reader,
+                     TriangleMesh& result)
+{
+  int face_list = findProperty(element, "vertex_indices");
+  if (face_list < 0)
+    face_list = findProperty(element, "vertex_index");
+  if (face_list < 0 || !element.properties[face_list].is_list)
+    failReadLine(path, element.header_line, "face element has no vertex_indices list");
+  // checkCount bounded the count by the bytes left; a real face (3+ corners) needs more
+  // than that bound assumes, so reserve no more than the file can actually hold.
+  const PlyProperty& list = element.properties[face_list];
+  const std::size_t min_face = reader.ascii() ? 2 * (element.properties.size() + 3)
+                                              : plyTypeSize(list.count_type) + 3 * plyTypeSize(list.type);
+  result.faces.reserve(
+      std::min<std::size_t>(static_cast<std::size_t>(element.count), reader.remaining() / min_face + 1));
+  return face_list;
+}
+
+/** One face's corner list (`count` indices), checked and fan-triangulated into `result`. */
+void readPlyFace(const std::string& path, PlyDataReader& reader, const PlyProperty& property,
+                 const PlyElement& element, std::uint64_t item, std::size_t count, std::size_t num_vertices,
+                 std::vector<std::int32_t>& corners, TriangleMesh& result, ReadInfo& info)
+{
+  if (count < 3)
+    failRead(path, "face " + std::to_string(item) + " has " + std::to_string(count) + " vertices (at least 3 needed)");
+  corners.clear();
+  for (std::size_t c = 0; c < count; ++c) {
+    const double value = reader.value(property.type, element, item);
+    if (!(value >= 0.0 && value < static_cast<double>(num_vertices)) || value != std::floor(value))
+      failRead(path, "face " + std::to_string(item) + " has vertex index " + numberText(value) + " out of range (" +
+                         std::to_string(num_vertices) + " vertices)");
+    corners.push_back(static_cast<std::int32_t>(value));
+  }
+  if (count > 3)
+    ++info.polygons_triangulated;
+  for (std::size_t c = 2; c < count; ++c)  // fan triangulation
+    result.faces.push_back({corners[0], corners[c - 1], corners[c]});
+}
+
 }  // namespace
 
 void readPly(const std::string& path, std::string_view bytes, TriangleMesh& mesh, ReadInfo& info)
 {
   const PlyHeader header = parseHeader(path, bytes);
-  const PlyElement* vertex_element = nullptr;
-  for (const PlyElement& element : header.elements)
-    if (element.name == "vertex") {
-      if (vertex_element)
-        failReadLine(path, element.header_line, "a second vertex element");
-      vertex_element = &element;
-    }
-  if (!vertex_element)
-    failRead(path, "PLY header declares no vertex element");
-  int xyz[3], normal[3];
-  const char* xyz_names[3] = {"x", "y", "z"};
-  const char* normal_names[3] = {"nx", "ny", "nz"};
-  bool has_normals = true;
-  for (int k = 0; k < 3; ++k) {
-    xyz[k] = findProperty(*vertex_element, xyz_names[k]);
-    if (xyz[k] < 0 || vertex_element->properties[xyz[k]].is_list)
-      failReadLine(path, vertex_element->header_line,
-                   std::string("vertex element has no scalar property '") + xyz_names[k] + "'");
-    normal[k] = findProperty(*vertex_element, normal_names[k]);
-    has_normals = has_normals && normal[k] >= 0 && !vertex_element->properties[normal[k]].is_list;
-  }
-  if (vertex_element->count > static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max()))
-    failRead(path, "too many vertices (" + std::to_string(vertex_element->count) + ")");
-  const std::size_t num_vertices = static_cast<std::size_t>(vertex_element->count);
-
+  const PlyVertexLayout vertices = vertexLayout(path, header);
   PlyDataReader reader(path, bytes, header);
   TriangleMesh result;
   bool seen_faces = false;
@@ -355,28 +409,17 @@ void readPly(const std::string& path, std::string_view bytes, TriangleMesh& mesh
     if (element.properties.empty())
       continue;  // nothing stored, and counting to a huge declared count would only waste time
     reader.checkCount(element);
-    const bool is_vertex = &element == vertex_element;
+    const bool is_vertex = &element == vertices.element;
     const bool is_face = element.name == "face" && !seen_faces;
     int face_list = -1;
     if (is_face) {
       seen_faces = true;
-      face_list = findProperty(element, "vertex_indices");
-      if (face_list < 0)
-        face_list = findProperty(element, "vertex_index");
-      if (face_list < 0 || !element.properties[face_list].is_list)
-        failReadLine(path, element.header_line, "face element has no vertex_indices list");
-      // checkCount bounded the count by the bytes left; a real face (3+ corners) needs more
-      // than that bound assumes, so reserve no more than the file can actually hold.
-      const PlyProperty& list = element.properties[face_list];
-      const std::size_t min_face = reader.ascii() ? 2 * (element.properties.size() + 3)
-                                                  : plyTypeSize(list.count_type) + 3 * plyTypeSize(list.type);
-      result.faces.reserve(std::min<std::size_t>(static_cast<std::size_t>(element.count),
-                                                 reader.remaining() / min_face + 1));
+      face_list = faceListProperty(path, element, reader, result);
     }
     if (is_vertex) {
-      result.vertices.resize(num_vertices);
-      if (has_normals)
-        result.normals.resize(num_vertices);
+      result.vertices.resize(vertices.count);
+      if (vertices.has_normals)
+        result.normals.resize(vertices.count);
     }
     for (std::uint64_t item = 0; item < element.count; ++item) {
       for (std::size_t p = 0; p < element.properties.size(); ++p) {
@@ -389,33 +432,18 @@ void readPly(const std::string& path, std::string_view bytes, TriangleMesh& mesh
           }
           const double value = reader.value(property.type, element, item);
           for (int k = 0; k < 3; ++k) {
-            if (index == xyz[k])
+            if (index == vertices.xyz[k])
               result.vertices[item][k] = value;
-            if (has_normals && index == normal[k])
+            if (vertices.has_normals && index == vertices.normal[k])
               result.normals[item][k] = value;
           }
           continue;
         }
         const std::size_t count = reader.listCount(property, element, item);
-        if (index != face_list) {
+        if (index != face_list)
           reader.skip(property.type, count, element, item);
-          continue;
-        }
-        if (count < 3)
-          failRead(path, "face " + std::to_string(item) + " has " + std::to_string(count) +
-                             " vertices (at least 3 needed)");
-        corners.clear();
-        for (std::size_t c = 0; c < count; ++c) {
-          const double value = reader.value(property.type, element, item);
-          if (!(value >= 0.0 && value < static_cast<double>(num_vertices)) || value != std::floor(value))
-            failRead(path, "face " + std::to_string(item) + " has vertex index " + numberText(value) +
-                               " out of range (" + std::to_string(num_vertices) + " vertices)");
-          corners.push_back(static_cast<std::int32_t>(value));
-        }
-        if (count > 3)
-          ++info.polygons_triangulated;
-        for (std::size_t c = 2; c < count; ++c)  // fan triangulation
-          result.faces.push_back({corners[0], corners[c - 1], corners[c]});
+        else
+          readPlyFace(path, reader, property, element, item, count, vertices.count, corners, result, info);
       }
     }
   }
