@@ -26,6 +26,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iterator>
 
 using namespace pcl::patchdict;
@@ -228,34 +229,21 @@ TEST(PatchCodec, RejectsBadParametersAndInputs)
   auto dictionary = std::make_shared<PatchDictionary>();
   dictionary->setAtoms(Eigen::MatrixXd::Identity(256, 32));  // 32 atoms: the default 20 coefficients fit
   codec.setDictionary(dictionary);
-  PatchCodecParameters parameters = bunnyParameters();
-  parameters.coefficients = 33;
-  codec.setParameters(parameters);
-  expectError(bunny, "coefficients per patch must be in [1, 32]");
-  parameters = bunnyParameters();
-  parameters.coefficient_bits = 1;
-  codec.setParameters(parameters);
-  expectError(bunny, "coefficient bits");
-  parameters = bunnyParameters();
-  parameters.patch_scale = 5.0;
-  codec.setParameters(parameters);
-  expectError(bunny, "patch scale");
-  parameters = bunnyParameters();
-  parameters.target_error = 2.0;
-  codec.setParameters(parameters);
-  expectError(bunny, "target error");
-  parameters = bunnyParameters();
-  parameters.coverage_tolerance = -0.1;
-  codec.setParameters(parameters);
-  expectError(bunny, "coverage tolerance");
-  parameters = bunnyParameters();
-  parameters.coverage_budget = std::nan("");
-  codec.setParameters(parameters);
-  expectError(bunny, "coverage budget");
-  parameters = bunnyParameters();
-  parameters.quad_length = 0.9;  // coarser than the shape
-  codec.setParameters(parameters);
-  expectError(bunny, "quad");
+  // Each a bad value of one parameter, the others the bunny's.
+  const std::vector<std::pair<std::function<void(PatchCodecParameters&)>, std::string>> bad_values = {
+      {[](auto& p) { p.coefficients = 33; }, "coefficients per patch must be in [1, 32]"},
+      {[](auto& p) { p.coefficient_bits = 1; }, "coefficient bits"},
+      {[](auto& p) { p.patch_scale = 5.0; }, "patch scale"},
+      {[](auto& p) { p.target_error = 2.0; }, "target error"},
+      {[](auto& p) { p.coverage_tolerance = -0.1; }, "coverage tolerance"},
+      {[](auto& p) { p.coverage_budget = std::nan(""); }, "coverage budget"},
+      {[](auto& p) { p.quad_length = 0.9; }, "quad"}};  // coarser than the shape
+  for (const auto& [set, message] : bad_values) {
+    PatchCodecParameters parameters = bunnyParameters();
+    set(parameters);
+    codec.setParameters(parameters);
+    expectError(bunny, message);
+  }
   codec.setParameters(bunnyParameters());
   TriangleMesh cloud = bunny;
   cloud.faces.clear();
