@@ -5,6 +5,7 @@
 
 #include <pcl_patchdict/io/atomic_file.h>
 #include <pcl_patchdict/eval/mesh_render.h>
+#include <pcl_patchdict/eval/repair_figure.h>
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/codec/patch_codec.h>
@@ -168,17 +169,12 @@ int runDecompress(const std::vector<std::string>& raw)
   writeMesh(output, decoded);
   if (args.has("png")) {
     // The quad mesh's surface in grey, the coverage patches' pieces (the last faces) in orange.
-    std::vector<std::vector<std::int32_t>> faces;
     std::vector<std::array<std::uint8_t, 3>> colours;
     const std::size_t first_piece = decoded.faces.size() - report.coverage_faces;
-    for (std::size_t f = 0; f < decoded.faces.size(); ++f) {
-      faces.push_back({decoded.faces[f][0], decoded.faces[f][1], decoded.faces[f][2]});
+    for (std::size_t f = 0; f < decoded.faces.size(); ++f)
       colours.push_back(f < first_piece ? std::array<std::uint8_t, 3>{200, 200, 200}
                                         : std::array<std::uint8_t, 3>{240, 140, 40});
-    }
-    RenderOptions options;
-    options.draw_edges = false;
-    writePolygonsPNG(args.get("png"), decoded.vertices, faces, colours, options);
+    writePolygonsPNG(args.get("png"), decoded.vertices, polygonsOf(decoded), colours);
   }
   SurfaceDistance distance;
   TriangleMesh reference;

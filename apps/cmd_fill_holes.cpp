@@ -61,7 +61,7 @@ JsonObject fillHolesJson(const Arguments& args, const RepairCommandLine& line,
     json.add("sparsity", parameters.sparsity).add("mu", parameters.constraint_weight);
     json.add("mean_correction", repair.mean_correction);
   }
-  json.add("repair_stages", repairStagesJson(repair, &repair));
+  json.add("repair_stages", repairStagesJson(repair));
   JsonObject seconds = timer.json();
   seconds.add("triangulation", report.seconds_triangulation)
       .add("refinement", report.seconds_refinement)

@@ -162,10 +162,11 @@ JsonObject patchStageJson(const PatchCorrectionReport& report)
   return json;
 }
 
-JsonObject repairStagesJson(const PatchRepairReport& report, const HoleRepairReport* holes)
+namespace {
+
+/** The stages' seconds; `check`: the relief check's (zeros for the repairs without one). */
+JsonObject stagesJson(const PatchRepairReport& report, const HoleRepairReport& check)
 {
-  const HoleRepairReport no_check;
-  const HoleRepairReport& check = holes ? *holes : no_check;
   JsonObject json;
   json.add("base", report.seconds_base).add("surface_check", check.seconds_check);
   json.add("check_layout", check.seconds_check_layout).add("check_patches", check.seconds_check_patches);
@@ -176,6 +177,11 @@ JsonObject repairStagesJson(const PatchRepairReport& report, const HoleRepairRep
   json.add("constraints", report.patches.seconds_constraints).add("solve", report.seconds_solve);
   return json;
 }
+
+}  // namespace
+
+JsonObject repairStagesJson(const PatchRepairReport& report) { return stagesJson(report, HoleRepairReport()); }
+JsonObject repairStagesJson(const HoleRepairReport& report) { return stagesJson(report, report); }
 
 }  // namespace cli
 }  // namespace patchdict

@@ -81,8 +81,10 @@ std::string dictionaryKind(const Arguments& args);
 std::string patchStageSummary(const PatchCorrectionReport& report);
 JsonObject patchStageJson(const PatchCorrectionReport& report);
 /** Seconds of the base, the patch stage (and its parts), and the solve. */
-/** `holes`: the hole repair's report, for its relief check's seconds (0 for the other repairs). */
-JsonObject repairStagesJson(const PatchRepairReport& report, const HoleRepairReport* holes = nullptr);
+/** Seconds of the base, the patch stage (and its parts), and the solve; the hole repair's adds its
+  * relief check's (zeros for the other repairs, so every report has the same keys). */
+JsonObject repairStagesJson(const PatchRepairReport& report);
+JsonObject repairStagesJson(const HoleRepairReport& report);
 
 }  // namespace cli
 }  // namespace patchdict

@@ -224,18 +224,18 @@ void solveDisplacement(const TriangleMesh& work, const std::vector<std::int32_t>
 void checkHoleRepairOptions(const HoleRepairOptions& p)
 {
   PatchCorrection::checkParameters(p);
-  if (!(p.constraint_weight >= 0.0) || !std::isfinite(p.constraint_weight))
-    throw Error("the constraint weight μ must be ≥ 0");
-  if (!(p.hole_quad_factor >= 0.0) || !std::isfinite(p.hole_quad_factor))
-    throw Error("the hole quad factor must be ≥ 0");
-  if (!(p.relief_gain > 0.0) || !std::isfinite(p.relief_gain) || !(p.relief_constraint_weight >= 0.0) ||
-      !std::isfinite(p.relief_constraint_weight) || p.relief_overlap < 0 || p.relief_probe_factors.empty() ||
-      !(p.relief_probe_radius > 0.0) || !std::isfinite(p.relief_probe_radius) ||
-      !(p.relief_min_improvement >= 0.0) || !std::isfinite(p.relief_min_improvement) || p.relief_probe_max_seeds < 0)
-    throw Error("bad relief settings");
+  using detail::checkFinite;
+  checkFinite(p.constraint_weight, p.constraint_weight >= 0.0, "the constraint weight μ must be ≥ 0");
+  checkFinite(p.hole_quad_factor, p.hole_quad_factor >= 0.0, "the hole quad factor must be ≥ 0");
+  const char* relief = "bad relief settings";
+  checkFinite(p.relief_gain, p.relief_gain > 0.0, relief);
+  checkFinite(p.relief_constraint_weight, p.relief_constraint_weight >= 0.0, relief);
+  checkFinite(p.relief_probe_radius, p.relief_probe_radius > 0.0, relief);
+  checkFinite(p.relief_min_improvement, p.relief_min_improvement >= 0.0, relief);
+  if (p.relief_overlap < 0 || p.relief_probe_factors.empty() || p.relief_probe_max_seeds < 0)
+    throw Error(relief);
   for (double factor : p.relief_probe_factors)
-    if (!(factor > 0.0) || !std::isfinite(factor))
-      throw Error("relief probe factors must be > 0");
+    checkFinite(factor, factor > 0.0, "relief probe factors must be > 0");
 }
 
 void fillHolesWithPatches(const TriangleMesh& input, TriangleMesh& out, const HoleRepairOptions& p,
@@ -253,15 +253,13 @@ void fillHolesWithPatches(const TriangleMesh& input, TriangleMesh& out, const Ho
   auto input_without_normals = std::make_shared<TriangleMesh>(input);
   input_without_normals->normals.clear();
   filling.setInputMesh(input_without_normals);
-  TriangleMesh filled;
-  filling.process(filled, &r.holes);
-  out = filled;
+  filling.process(out, &r.holes);
   r.seconds_base = secondsSince(t);
   std::vector<std::int32_t> new_vertices;
-  for (std::size_t v = n; v < filled.numVertices(); ++v)
+  for (std::size_t v = n; v < out.numVertices(); ++v)
     new_vertices.push_back(static_cast<std::int32_t>(v));
   r.moved_vertices = new_vertices.size();
-  const auto work = std::make_shared<TriangleMesh>(filled);  // shared with the patch stage
+  const auto work = std::make_shared<TriangleMesh>(out);  // shared with the patch stage
   normalization.apply(*work);
   r.mean_edge_length = work->meanEdgeLength();
   if (!p.use_patches || new_vertices.empty())

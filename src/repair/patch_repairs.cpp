@@ -87,18 +87,18 @@ std::vector<PointToPlaneConstraint> flatten(const std::vector<std::vector<PointT
   return out;
 }
 
+void checkFinite(double value, bool ok, const char* message)
+{
+  if (!ok || !std::isfinite(value))
+    throw Error(message);
+}
+
 }  // namespace detail
 
 namespace {
 
 using detail::Clock;
 using detail::secondsSince;
-
-void checkFinite(double value, bool ok, const char* message)
-{
-  if (!ok || !std::isfinite(value))
-    throw Error(message);
-}
 
 /** The missing vertices as flags, after checking the list. */
 std::vector<bool> missingFlags(const std::vector<int>& missing, std::size_t n)
@@ -150,7 +150,7 @@ std::vector<bool> knownFaces(const TriangleMesh& work, const std::vector<bool>& 
 void checkMissingVerticesOptions(const MissingVerticesOptions& options)
 {
   PatchCorrection::checkParameters(options);
-  checkFinite(options.constraint_weight, options.constraint_weight >= 0.0, "the constraint weight μ must be ≥ 0");
+  detail::checkFinite(options.constraint_weight, options.constraint_weight >= 0.0, "the constraint weight μ must be ≥ 0");
 }
 
 void fillMissingVertices(const TriangleMesh& input, const std::vector<int>& missing, TriangleMesh& out,
@@ -267,12 +267,12 @@ std::vector<Eigen::Vector3d> movePerVertex(const TriangleMesh& work,
 void checkDenoiseOptions(const DenoiseOptions& p)
 {
   PatchCorrection::checkParameters(p);
-  checkFinite(p.noise_sigma, p.noise_sigma >= 0.0, "the noise level must be ≥ 0 (0: estimated)");
-  checkFinite(p.error_factor, p.error_factor >= 0.0, "the error factor must be ≥ 0");
-  checkFinite(p.fidelity, p.fidelity > 0.0, "the fidelity weight must be > 0");
+  detail::checkFinite(p.noise_sigma, p.noise_sigma >= 0.0, "the noise level must be ≥ 0 (0: estimated)");
+  detail::checkFinite(p.error_factor, p.error_factor >= 0.0, "the error factor must be ≥ 0");
+  detail::checkFinite(p.fidelity, p.fidelity > 0.0, "the fidelity weight must be > 0");
   if (p.base_iterations < -1 || p.max_base_iterations < 0)
     throw Error("base iterations must be ≥ 0 (−1: by the discrepancy principle), their maximum ≥ 0");
-  checkFinite(p.discrepancy, p.discrepancy > 0.0, "the discrepancy factor must be > 0");
+  detail::checkFinite(p.discrepancy, p.discrepancy > 0.0, "the discrepancy factor must be > 0");
 }
 
 void denoiseWithPatches(const TriangleMesh& input, TriangleMesh& out, const DenoiseOptions& options,

@@ -17,6 +17,9 @@ namespace detail {
 using Clock = std::chrono::steady_clock;
 inline double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+/** Error(message) unless `ok` and `value` is finite. */
+void checkFinite(double value, bool ok, const char* message);
+
 /** The report a repair fills: `*report` when given, else `local`; reset either way. */
 template <class Report>
 Report& freshReport(Report* report, Report& local)

@@ -228,7 +228,7 @@ TEST(CliOptions, GettersReadTheTable)
   EXPECT_EQ(none.getDouble("fidelity"), 0.05);
   EXPECT_EQ(none.getInt("base-iterations"), -1);
   EXPECT_EQ(none.getInt("seed"), 0);  // the repair's own, not the common 1
-  EXPECT_EQ(none.getInt("grid", 0), 0);  // computed: the dictionary's
+  EXPECT_EQ(none.getInt("grid", 7), 7);  // computed (the dictionary's): the caller's value when not given
   EXPECT_THROW(none.getInt("grid"), std::logic_error);
   EXPECT_THROW(none.getDouble("noise", 0.0), std::logic_error);
   EXPECT_THROW(none.getDouble("sparsity"), std::logic_error);   // an Integer

@@ -3,6 +3,7 @@
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/geometry/mesh_hygiene.h>
 #include <pcl_patchdict/io/mesh_io.h>
+#include <pcl_patchdict/pcl/reference_frame.h>
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/core/vertex_normals.h>
@@ -112,8 +113,10 @@ TEST(QuadFrameEstimation, FramesOnASphereAreOrthonormalRadialAndConsistent)
   std::size_t radial = 0;
   for (std::size_t s = 0; s < seeds.size(); ++s) {
     const Eigen::Matrix3d r = frames[s];
-    // The seed's frame is its face's, rounded to single precision, bit for bit.
-    const Eigen::Matrix3d rounded = roundToSinglePrecision(face_frames[static_cast<std::size_t>(seed_faces[s])]);
+    // The seed's frame is its face's as it comes back through PCL's float pcl::ReferenceFrame, bit
+    // for bit (what the frames were before they stayed in double: the outputs depend on it).
+    const Eigen::Matrix3d rounded =
+        fromReferenceFrame(toReferenceFrame(face_frames[static_cast<std::size_t>(seed_faces[s])]));
     EXPECT_EQ(std::memcmp(r.data(), rounded.data(), sizeof(double) * 9), 0);
     EXPECT_LT((r * r.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 1e-5);
     EXPECT_GT(r.determinant(), 0.0);
