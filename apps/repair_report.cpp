@@ -9,6 +9,7 @@
 #include <pcl_patchdict/geometry/metrics.h>
 
 #include <algorithm>
+#include <numeric>
 #include <cstdint>
 #include <filesystem>
 
@@ -76,18 +77,9 @@ JsonObject writeRepairReport(const std::string& dir, const TriangleMesh& before,
   if (reference->faces.empty())
     throw Error("the reference has no faces: the error colouring needs a surface");
   const std::vector<double> distances = PointToMeshDistance(*reference).distances(after.vertices);
-  std::vector<double> sorted = distances;
-  const std::size_t at = sorted.empty() ? 0 : (sorted.size() - 1) * 99 / 100;
-  if (!sorted.empty())
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(at), sorted.end());
-  const double top = scale > 0.0 ? scale : (sorted.empty() ? 0.0 : sorted[at]);
-  std::vector<Colour> vertex_colours(after.numVertices());
-  double sum = 0.0;
-  for (std::size_t v = 0; v < distances.size(); ++v) {
-    vertex_colours[v] = errorColour(top > 0.0 ? distances[v] / top : 0.0);
-    sum += distances[v];
-  }
-  writeColouredPly(file("error.ply"), after, vertex_colours);
+  const double top = scale > 0.0 ? scale : percentile99(distances);
+  const double sum = std::accumulate(distances.begin(), distances.end(), 0.0);
+  writeColouredPly(file("error.ply"), after, errorColours(distances, top));
   writeImagePNG(file("error.png"), errorPicture(after, distances, top, 800));
   json.add("error_ply", file("error.ply")).add("error_png", file("error.png"));
   // A close-up of the largest filled region beside the reference, when the repair added faces.

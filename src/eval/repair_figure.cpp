@@ -22,16 +22,6 @@ std::int32_t root(std::vector<std::int32_t>& parent, std::int32_t v)
   return v;
 }
 
-/** The value at the 99th percentile (0 for none). */
-double percentile99(std::vector<double> values)
-{
-  if (values.empty())
-    return 0.0;
-  const std::size_t at = (values.size() - 1) * 99 / 100;
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(at), values.end());
-  return values[at];
-}
-
 /** Distances to the truth of the vertices the window's faces use (others 0: not drawn). */
 std::vector<double> windowDistances(const PointToMeshDistance& truth, const TriangleMesh& mesh,
                                     const std::vector<std::vector<std::int32_t>>& faces, std::vector<double>* used)
@@ -56,14 +46,6 @@ std::vector<double> windowDistances(const PointToMeshDistance& truth, const Tria
   return distances;
 }
 
-std::vector<RGBColour> errorColours(const std::vector<double>& distances, double scale)
-{
-  std::vector<RGBColour> colours(distances.size());
-  for (std::size_t v = 0; v < distances.size(); ++v)
-    colours[v] = errorColour(scale > 0.0 ? distances[v] / scale : 0.0);
-  return colours;
-}
-
 RGBImage render(const TriangleMesh& mesh, const std::vector<std::vector<std::int32_t>>& faces,
                 const std::vector<RGBColour>& vertex_colours, const RenderOptions& base)
 {
@@ -73,6 +55,24 @@ RGBImage render(const TriangleMesh& mesh, const std::vector<std::vector<std::int
 }
 
 }  // namespace
+
+double percentile99(std::vector<double> values)
+{
+  if (values.empty())
+    return 0.0;
+  const std::size_t at = (values.size() - 1) * 99 / 100;
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(at), values.end());
+  return values[at];
+}
+
+std::vector<RGBColour> errorColours(const std::vector<double>& distances, double scale)
+{
+  std::vector<RGBColour> colours(distances.size());
+  for (std::size_t v = 0; v < distances.size(); ++v)
+    colours[v] = errorColour(scale > 0.0 ? distances[v] / scale : 0.0);
+  return colours;
+}
+
 
 std::vector<std::vector<std::int32_t>> polygonsOf(const TriangleMesh& mesh)
 {

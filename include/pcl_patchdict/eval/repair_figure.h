@@ -12,6 +12,11 @@
 namespace pcl {
 namespace patchdict {
 
+/** The value at the 99th percentile (0 for none): the error scale when none is given. */
+double percentile99(std::vector<double> values);
+/** errorColour of each distance / scale (the low end for scale 0). */
+std::vector<RGBColour> errorColours(const std::vector<double>& distances, double scale);
+
 /** The mesh's triangles as renderPolygons takes them. */
 std::vector<std::vector<std::int32_t>> polygonsOf(const TriangleMesh& mesh);
 
