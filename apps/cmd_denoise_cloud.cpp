@@ -1,5 +1,5 @@
 // `pcl_patchdict denoise CLOUD -o OUT` for point clouds (.pcd, or .ply without faces):
-// SparsePatchCloudInpainter (statistical pre-filter, local quadric patches, residual outliers).
+// GeometricCloudInpainter (statistical pre-filter, local quadric patches, residual outliers).
 // A PCD keeps every field it has (colour, intensity, labels…) and its organisation; a PLY cloud
 // keeps positions and normals. Lengths are in units of the cloud's largest bounding-box side.
 #include "cli.h"
@@ -7,7 +7,7 @@
 #include "options.h"
 
 #include <pcl_patchdict/io/mesh_io.h>
-#include <pcl_patchdict/cloud/sparse_patch_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
 
 #include <pcl/common/io.h>
 #include <pcl/conversions.h>
@@ -25,7 +25,7 @@ namespace cli {
 
 namespace {
 
-using Inpainter = SparsePatchCloudInpainter<pcl::PointNormal, pcl::PointNormal>;
+using Inpainter = GeometricCloudInpainter<pcl::PointNormal, pcl::PointNormal>;
 
 /** The command line of a cloud repair, read and checked before the input is. */
 struct CloudRepairLine {
@@ -138,7 +138,7 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
     Inpainter inpainter;
     run(inpainter, result.denoised);
   } else {
-    SparsePatchCloudInpainter<pcl::PointNormal, pcl::PointXYZ> inpainter;
+    GeometricCloudInpainter<pcl::PointNormal, pcl::PointXYZ> inpainter;
     pcl::PointCloud<pcl::PointXYZ> positions;
     run(inpainter, positions);
     pcl::copyPointCloud(positions, result.denoised);

@@ -1,6 +1,6 @@
 // cloud_pipeline IN.pcd OUT.ply — a noisy scan to a watertight mesh: statistical outlier removal →
-// patch denoising with oriented normals (SparsePatchCloudInpainter) → Poisson → PLY.
-#include <pcl_patchdict/cloud/sparse_patch_cloud_inpainter.h>
+// patch denoising with oriented normals (GeometricCloudInpainter) → Poisson → PLY.
+#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
 
 #include <pcl/filters/statistical_outlier_removal.h>
 #include <pcl/io/pcd_io.h>
@@ -33,7 +33,7 @@ int main(int argc, char** argv)
     sor.filter(*filtered);
 
     // 2. Noise: each point moves onto its local height-field patch; PointNormal out: oriented normals.
-    pcl::patchdict::SparsePatchCloudInpainter<pcl::PointXYZ, pcl::PointNormal> denoiser;
+    pcl::patchdict::GeometricCloudInpainter<pcl::PointXYZ, pcl::PointNormal> denoiser;
     denoiser.setInputCloud(filtered);
     denoiser.setOutlierFilter(false);  // the SOR above did it
     auto denoised = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();

@@ -1,9 +1,9 @@
-// detail::denoiseCloud (see sparse_patch_cloud_inpainter.h): the type-free core of
-// SparsePatchCloudInpainter — pre-filter, noise and bandwidth, the patches' fits, normal orientation.
+// detail::denoiseCloud (see geometric_cloud_inpainter.h): the type-free core of
+// GeometricCloudInpainter — pre-filter, noise and bandwidth, the patches' fits, normal orientation.
 #include "cloud/denoise_cloud_stages.h"
 
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/cloud/sparse_patch_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
 
 #include <algorithm>
 #include <chrono>

@@ -4,7 +4,7 @@
 #pragma once
 
 #include <pcl_patchdict/cloud/local_quadric_projection.h>
-#include <pcl_patchdict/cloud/sparse_patch_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
 
 #include <Eigen/Core>
 

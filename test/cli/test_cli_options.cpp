@@ -6,7 +6,7 @@
 
 #include <pcl_patchdict/cloud/cloud_hole_completion.h>
 #include <pcl_patchdict/cloud/organized_hole_filling.h>
-#include <pcl_patchdict/cloud/sparse_patch_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
 #include <pcl_patchdict/codec/patch_codec.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
 #include <pcl_patchdict/quads/patch_layout.h>

@@ -2,7 +2,7 @@
 // a tilted plane seen from 1 to 2.6 m with σ(z) = a·z² along the view, white or correlated between
 // neighbouring pixels; known answers on the per-point σ and h, the risk's correlation, outliers.
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/cloud/sparse_patch_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
 
 #include <pcl/search/kdtree.h>
 

@@ -1,10 +1,10 @@
-// SparsePatchCloudInpainter<PointInT, PointOutT>::processDepthImage (see
-// sparse_patch_cloud_inpainter.h): an organised cloud whose grid is a pinhole image, denoised along
+// GeometricCloudInpainter<PointInT, PointOutT>::processDepthImage (see
+// geometric_cloud_inpainter.h): an organised cloud whose grid is a pinhole image, denoised along
 // its pixels' rays, filled in place, with the free-space test.
 #pragma once
 
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/cloud/sparse_patch_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
 
 #include <pcl/common/copy_point.h>
 #include <pcl/point_traits.h>
@@ -61,7 +61,7 @@ struct DepthRun {
 }  // namespace detail
 
 template <typename PointInT, typename PointOutT>
-void SparsePatchCloudInpainter<PointInT, PointOutT>::processDepthImage(const std::vector<Eigen::Vector3d>& points,
+void GeometricCloudInpainter<PointInT, PointOutT>::processDepthImage(const std::vector<Eigen::Vector3d>& points,
                                                                       const std::vector<Eigen::Vector3d>& normals,
                                                                       const DepthImage& image, const Eigen::Matrix3d& R,
                                                                       const Eigen::Vector3d& o, PointCloudOut& output)
@@ -92,7 +92,7 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::processDepthImage(const std
 }
 
 template <typename PointInT, typename PointOutT>
-void SparsePatchCloudInpainter<PointInT, PointOutT>::denoiseDepthInImage(detail::DepthRun& run)
+void GeometricCloudInpainter<PointInT, PointOutT>::denoiseDepthInImage(detail::DepthRun& run)
 {
   const DepthImage& image = run.image;
   const PinholeCamera& camera = image.camera;
@@ -128,7 +128,7 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::denoiseDepthInImage(detail:
 }
 
 template <typename PointInT, typename PointOutT>
-void SparsePatchCloudInpainter<PointInT, PointOutT>::denoiseDepthWithPatches(detail::DepthRun& run,
+void GeometricCloudInpainter<PointInT, PointOutT>::denoiseDepthWithPatches(detail::DepthRun& run,
                                                                             const std::vector<Eigen::Vector3d>& normals)
 {
   const PointCloudIn& input = *input_;
@@ -191,7 +191,7 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::denoiseDepthWithPatches(det
 }
 
 template <typename PointInT, typename PointOutT>
-void SparsePatchCloudInpainter<PointInT, PointOutT>::fillDepthHoles(detail::DepthRun& run)
+void GeometricCloudInpainter<PointInT, PointOutT>::fillDepthHoles(detail::DepthRun& run)
 {
   DepthImage source = run.image;  // the denoised depths, when denoised first
   for (std::size_t i = 0; i < run.n; ++i) {
@@ -217,7 +217,7 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::fillDepthHoles(detail::Dept
 }
 
 template <typename PointInT, typename PointOutT>
-void SparsePatchCloudInpainter<PointInT, PointOutT>::writeDepthOutput(const detail::DepthRun& run,
+void GeometricCloudInpainter<PointInT, PointOutT>::writeDepthOutput(const detail::DepthRun& run,
                                                                      const Eigen::Matrix3d& R, const Eigen::Vector3d& o,
                                                                      PointCloudOut& output)
 {

@@ -1,5 +1,5 @@
-// SparsePatchCloudInpainter — the cloud front door (pcl::CloudSurfaceProcessing, shaped like
-// pcl::MovingLeastSquares): robot scans and SfM clouds denoised with local height-field patches.
+// GeometricCloudInpainter — the geometric base of the cloud path (pcl::CloudSurfaceProcessing, shaped like
+// pcl::MovingLeastSquares): local quadrics, spline and implicit fills, depth images; no patches.
 #pragma once
 
 #include <pcl_patchdict/cloud/cloud_hole_completion.h>
@@ -119,7 +119,7 @@ struct PointScales {
 };
 using KnnSearch = std::function<void(std::size_t query, int k, pcl::Indices& indices, std::vector<float>& squared)>;
 
-/** The type-free core of SparsePatchCloudInpainter: positions (NaN = not a point), optional input
+/** The type-free core of GeometricCloudInpainter: positions (NaN = not a point), optional input
   * normals (empty, or one per point; zero = none), the queries to process, searches over the
   * positions. Fills kept flags (one per query), positions and normals (one per query). */
 void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals,
@@ -129,8 +129,8 @@ void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<
                   std::vector<Eigen::Vector3d>& out_positions, std::vector<Eigen::Vector3d>& out_normals,
                   CloudDenoisingReport& report, const PointScales* scales = nullptr);
 
-struct CloudRun;  // performProcessing's state between its stages (impl/sparse_patch_cloud_inpainter.hpp)
-struct DepthRun;  // processDepthImage's (impl/sparse_patch_cloud_inpainter_depth_image.hpp)
+struct CloudRun;  // performProcessing's state between its stages (impl/geometric_cloud_inpainter.hpp)
+struct DepthRun;  // processDepthImage's (impl/geometric_cloud_inpainter_depth_image.hpp)
 }  // namespace detail
 
 /** \brief Denoises a point cloud with local height-field patches (the cloud variant of
@@ -158,10 +158,10 @@ struct DepthRun;  // processDepthImage's (impl/sparse_patch_cloud_inpainter_dept
   * parameters, whatever the thread count. Throws pcl::patchdict::Error for bad input or parameters
   * (fewer than 100 finite points, non-finite parameters, ...). */
 template <typename PointInT, typename PointOutT = PointInT>
-class SparsePatchCloudInpainter : public pcl::CloudSurfaceProcessing<PointInT, PointOutT> {
+class GeometricCloudInpainter : public pcl::CloudSurfaceProcessing<PointInT, PointOutT> {
 public:
-  using Ptr = std::shared_ptr<SparsePatchCloudInpainter<PointInT, PointOutT>>;
-  using ConstPtr = std::shared_ptr<const SparsePatchCloudInpainter<PointInT, PointOutT>>;
+  using Ptr = std::shared_ptr<GeometricCloudInpainter<PointInT, PointOutT>>;
+  using ConstPtr = std::shared_ptr<const GeometricCloudInpainter<PointInT, PointOutT>>;
   using PointCloudIn = pcl::PointCloud<PointInT>;
   using PointCloudOut = pcl::PointCloud<PointOutT>;
   using KdTreePtr = typename pcl::search::Search<PointInT>::Ptr;
@@ -172,7 +172,7 @@ public:
     * denoised points, then the new ones filled from them. */
   enum class Mode { Denoise, Complete, DenoiseAndComplete };
 
-  SparsePatchCloudInpainter() = default;
+  GeometricCloudInpainter() = default;
 
   void setMode(Mode mode) { mode_ = mode; }
   Mode getMode() const { return mode_; }
@@ -289,5 +289,5 @@ private:
 }  // namespace pcl
 
 #ifdef PCL_NO_PRECOMPILE
-#include <pcl_patchdict/cloud/impl/sparse_patch_cloud_inpainter.hpp>
+#include <pcl_patchdict/cloud/impl/geometric_cloud_inpainter.hpp>
 #endif

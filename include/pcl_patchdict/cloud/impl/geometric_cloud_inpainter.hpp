@@ -1,11 +1,11 @@
-// SparsePatchCloudInpainter<PointInT, PointOutT> (see sparse_patch_cloud_inpainter.h): the typed
+// GeometricCloudInpainter<PointInT, PointOutT> (see geometric_cloud_inpainter.h): the typed
 // shell around detail::denoiseCloud — point fields in and out, the search, organisation; the
-// organised path (processDepthImage) in sparse_patch_cloud_inpainter_depth_image.hpp.
+// organised path (processDepthImage) in geometric_cloud_inpainter_depth_image.hpp.
 #pragma once
 
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/cloud/gross_outliers.h>
-#include <pcl_patchdict/cloud/sparse_patch_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
 
 #include <pcl/common/copy_point.h>
 #include <pcl/point_traits.h>
@@ -38,7 +38,7 @@ struct CloudRun {
 }  // namespace detail
 
 template <typename PointInT, typename PointOutT>
-void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointCloudOut& output)
+void GeometricCloudInpainter<PointInT, PointOutT>::performProcessing(PointCloudOut& output)
 {
   report_ = CloudDenoisingReport{};
   kept_indices_.clear();
@@ -75,7 +75,7 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::performProcessing(PointClou
 }
 
 template <typename PointInT, typename PointOutT>
-void SparsePatchCloudInpainter<PointInT, PointOutT>::readInput(detail::CloudRun& run)
+void GeometricCloudInpainter<PointInT, PointOutT>::readInput(detail::CloudRun& run)
 {
   const PointCloudIn& input = *input_;
   std::vector<Eigen::Vector3d>& points = run.points;
@@ -108,7 +108,7 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::readInput(detail::CloudRun&
 }
 
 template <typename PointInT, typename PointOutT>
-bool SparsePatchCloudInpainter<PointInT, PointOutT>::processAsDepthImage(const detail::CloudRun& run,
+bool GeometricCloudInpainter<PointInT, PointOutT>::processAsDepthImage(const detail::CloudRun& run,
                                                                         PointCloudOut& output)
 {
   const PointCloudIn& input = *input_;
@@ -136,7 +136,7 @@ bool SparsePatchCloudInpainter<PointInT, PointOutT>::processAsDepthImage(const d
 }
 
 template <typename PointInT, typename PointOutT>
-void SparsePatchCloudInpainter<PointInT, PointOutT>::mergeCopies(detail::CloudRun& run)
+void GeometricCloudInpainter<PointInT, PointOutT>::mergeCopies(detail::CloudRun& run)
 {
   // Exact copies of a position carry nothing new and make the spacing 0: the first of each is
   // processed, the others follow it.
@@ -160,7 +160,7 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::mergeCopies(detail::CloudRu
 
 template <typename PointInT, typename PointOutT>
 typename pcl::PointCloud<PointInT>::ConstPtr
-SparsePatchCloudInpainter<PointInT, PointOutT>::searchedCloud(const detail::CloudRun& run) const
+GeometricCloudInpainter<PointInT, PointOutT>::searchedCloud(const detail::CloudRun& run) const
 {
   const PointCloudIn& input = *input_;
   const std::vector<Eigen::Vector3d>& points = run.points;
@@ -189,7 +189,7 @@ SparsePatchCloudInpainter<PointInT, PointOutT>::searchedCloud(const detail::Clou
 }
 
 template <typename PointInT, typename PointOutT>
-void SparsePatchCloudInpainter<PointInT, PointOutT>::denoiseRun(detail::CloudRun& run, const detail::KnnSearch& knn,
+void GeometricCloudInpainter<PointInT, PointOutT>::denoiseRun(detail::CloudRun& run, const detail::KnnSearch& knn,
                                                                const RadiusNeighbourSearch& radius)
 {
   const PointCloudIn& input = *input_;
@@ -227,7 +227,7 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::denoiseRun(detail::CloudRun
 }
 
 template <typename PointInT, typename PointOutT>
-void SparsePatchCloudInpainter<PointInT, PointOutT>::completeRun(detail::CloudRun& run)
+void GeometricCloudInpainter<PointInT, PointOutT>::completeRun(detail::CloudRun& run)
 {
   std::vector<Eigen::Vector3d> surface, surface_normals;
   std::vector<std::size_t> owner;
@@ -277,7 +277,7 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::completeRun(detail::CloudRu
 }
 
 template <typename PointInT, typename PointOutT>
-void SparsePatchCloudInpainter<PointInT, PointOutT>::followCopies(detail::CloudRun& run)
+void GeometricCloudInpainter<PointInT, PointOutT>::followCopies(detail::CloudRun& run)
 {
   if (run.run_queries.size() == run.queries.size())
     return;
@@ -296,7 +296,7 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::followCopies(detail::CloudR
 }
 
 template <typename PointInT, typename PointOutT>
-void SparsePatchCloudInpainter<PointInT, PointOutT>::writeOutput(const detail::CloudRun& run, PointCloudOut& output)
+void GeometricCloudInpainter<PointInT, PointOutT>::writeOutput(const detail::CloudRun& run, PointCloudOut& output)
 {
   const PointCloudIn& input = *input_;
   const std::vector<std::size_t>& queries = run.queries;
@@ -362,7 +362,7 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::writeOutput(const detail::C
 }
 
 template <typename PointInT, typename PointOutT>
-void SparsePatchCloudInpainter<PointInT, PointOutT>::place(PointOutT& out, const Eigen::Vector3d& position,
+void GeometricCloudInpainter<PointInT, PointOutT>::place(PointOutT& out, const Eigen::Vector3d& position,
                                                           const Eigen::Vector3d& normal)
 {
   out.x = static_cast<float>(position.x());
@@ -380,4 +380,4 @@ void SparsePatchCloudInpainter<PointInT, PointOutT>::place(PointOutT& out, const
 }  // namespace patchdict
 }  // namespace pcl
 
-#include <pcl_patchdict/cloud/impl/sparse_patch_cloud_inpainter_depth_image.hpp>
+#include <pcl_patchdict/cloud/impl/geometric_cloud_inpainter_depth_image.hpp>

@@ -1,7 +1,7 @@
-// SparsePatchCloudInpainter: known answers on noisy planes and spheres, a comparison with PCL's
+// GeometricCloudInpainter: known answers on noisy planes and spheres, a comparison with PCL's
 // StatisticalOutlierRemoval + MovingLeastSquares, organisation, carried fields, normals, errors.
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/cloud/sparse_patch_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
 
 #include <pcl/filters/statistical_outlier_removal.h>
 #include <pcl/search/kdtree.h>
@@ -54,11 +54,11 @@ double rmsSphereDistance(const pcl::PointCloud<PointT>& cloud)
 // 20k samples of the unit sphere: mean spacing ≈ 0.5 / sqrt(20000 / 4π) ≈ 0.0125.
 constexpr double kSpacing = 0.0125;
 
-TEST(SparsePatchCloudInpainter, DenoisesASphereBetterThanStatisticalOutlierRemovalPlusMlsAtItsBestRadius)
+TEST(GeometricCloudInpainter, DenoisesASphereBetterThanStatisticalOutlierRemovalPlusMlsAtItsBestRadius)
 {
   const double sigma = 0.5 * kSpacing;
   const auto cloud = noisySphere(20000, sigma, 200, 1);
-  SparsePatchCloudInpainter<pcl::PointXYZ> inpainter;
+  GeometricCloudInpainter<pcl::PointXYZ> inpainter;
   inpainter.setInputCloud(cloud);
   pcl::PointCloud<pcl::PointXYZ> out;
   inpainter.process(out);
@@ -91,7 +91,7 @@ TEST(SparsePatchCloudInpainter, DenoisesASphereBetterThanStatisticalOutlierRemov
   EXPECT_GT(report.outlier_filter_removed + report.residual_removed, std::size_t{150});
 }
 
-TEST(SparsePatchCloudInpainter, FlattensANoisyPlaneAndRemovesItsOutliers)
+TEST(GeometricCloudInpainter, FlattensANoisyPlaneAndRemovesItsOutliers)
 {
   std::mt19937 rng(2);
   std::normal_distribution<double> gauss(0.0, 0.002);
@@ -103,7 +103,7 @@ TEST(SparsePatchCloudInpainter, FlattensANoisyPlaneAndRemovesItsOutliers)
   for (int i = 0; i < 50; ++i)  // off the plane by 0.05–0.2
     cloud->push_back(pcl::PointXYZ(static_cast<float>(uniform(rng)), static_cast<float>(uniform(rng)),
                                    static_cast<float>(0.05 + 0.15 * uniform(rng))));
-  SparsePatchCloudInpainter<pcl::PointXYZ, pcl::PointNormal> inpainter;
+  GeometricCloudInpainter<pcl::PointXYZ, pcl::PointNormal> inpainter;
   inpainter.setInputCloud(cloud);
   pcl::PointCloud<pcl::PointNormal> out;
   inpainter.process(out);
@@ -122,7 +122,7 @@ TEST(SparsePatchCloudInpainter, FlattensANoisyPlaneAndRemovesItsOutliers)
     EXPECT_NEAR(out[i].x, (*cloud)[static_cast<std::size_t>(inpainter.getKeptIndices()[i])].x, 0.01);
 }
 
-TEST(SparsePatchCloudInpainter, OrganisedCloudKeepsItsGridNanCellsAndColours)
+TEST(GeometricCloudInpainter, OrganisedCloudKeepsItsGridNanCellsAndColours)
 {
   // A depth image: a paraboloid seen from the origin, a NaN hole, colours per cell.
   const std::uint32_t w = 120, h = 100;
@@ -146,7 +146,7 @@ TEST(SparsePatchCloudInpainter, OrganisedCloudKeepsItsGridNanCellsAndColours)
       }
     }
   cloud->is_dense = false;
-  SparsePatchCloudInpainter<pcl::PointXYZRGB, pcl::PointXYZRGBNormal> inpainter;
+  GeometricCloudInpainter<pcl::PointXYZRGB, pcl::PointXYZRGBNormal> inpainter;
   inpainter.setInputCloud(cloud);
   pcl::PointCloud<pcl::PointXYZRGBNormal> out;
   inpainter.process(out);
@@ -180,10 +180,10 @@ TEST(SparsePatchCloudInpainter, OrganisedCloudKeepsItsGridNanCellsAndColours)
     EXPECT_TRUE(std::isfinite(out.at(c, r).x)) << "corner " << c << ", " << r << " removed";
 }
 
-TEST(SparsePatchCloudInpainter, NormalsOfABareClosedCloudPointOutwards)
+TEST(GeometricCloudInpainter, NormalsOfABareClosedCloudPointOutwards)
 {
   const auto cloud = noisySphere(8000, 0.002, 0, 4);
-  SparsePatchCloudInpainter<pcl::PointXYZ, pcl::PointNormal> inpainter;
+  GeometricCloudInpainter<pcl::PointXYZ, pcl::PointNormal> inpainter;
   inpainter.setInputCloud(cloud);
   pcl::PointCloud<pcl::PointNormal> out;
   inpainter.process(out);
@@ -194,7 +194,7 @@ TEST(SparsePatchCloudInpainter, NormalsOfABareClosedCloudPointOutwards)
   EXPECT_EQ(outward, out.size());
 }
 
-TEST(SparsePatchCloudInpainter, PointsMissingTheirInputNormalAreOrientedLikeTheirNeighbours)
+TEST(GeometricCloudInpainter, PointsMissingTheirInputNormalAreOrientedLikeTheirNeighbours)
 {
   // Half the sphere comes with outward normals, the other half with NaN ones (as
   // pcl::NormalEstimation leaves them): every output normal points outwards.
@@ -207,7 +207,7 @@ TEST(SparsePatchCloudInpainter, PointsMissingTheirInputNormalAreOrientedLikeThei
                                           : Eigen::Vector3f(p.getVector3fMap().normalized());
     cloud->push_back(q);
   }
-  SparsePatchCloudInpainter<pcl::PointNormal> inpainter;
+  GeometricCloudInpainter<pcl::PointNormal> inpainter;
   inpainter.setInputCloud(cloud);
   pcl::PointCloud<pcl::PointNormal> out;
   inpainter.process(out);
@@ -217,10 +217,10 @@ TEST(SparsePatchCloudInpainter, PointsMissingTheirInputNormalAreOrientedLikeThei
   EXPECT_EQ(inward, 0u);
 }
 
-TEST(SparsePatchCloudInpainter, IndicesOutsideTheCloudAndStackedDuplicates)
+TEST(GeometricCloudInpainter, IndicesOutsideTheCloudAndStackedDuplicates)
 {
   const auto cloud = noisySphere(3000, 0.003, 0, 13);
-  SparsePatchCloudInpainter<pcl::PointXYZ> inpainter;
+  GeometricCloudInpainter<pcl::PointXYZ> inpainter;
   inpainter.setInputCloud(cloud);
   auto indices = std::make_shared<pcl::Indices>();
   for (int i = 0; i < 2000; ++i)
@@ -238,7 +238,7 @@ TEST(SparsePatchCloudInpainter, IndicesOutsideTheCloudAndStackedDuplicates)
   // Every point stored twice, the pre-filter off: the spacing is still found.
   auto doubled = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>(*cloud);
   *doubled += *cloud;
-  SparsePatchCloudInpainter<pcl::PointXYZ> twice;
+  GeometricCloudInpainter<pcl::PointXYZ> twice;
   twice.setInputCloud(doubled);
   twice.setOutlierFilter(false);
   twice.process(out);
@@ -246,12 +246,12 @@ TEST(SparsePatchCloudInpainter, IndicesOutsideTheCloudAndStackedDuplicates)
   EXPECT_GE(out.size(), 5900u);
 }
 
-TEST(SparsePatchCloudInpainter, SameOutputWhateverTheThreadCount)
+TEST(GeometricCloudInpainter, SameOutputWhateverTheThreadCount)
 {
   const auto cloud = noisySphere(6000, 0.004, 60, 5);
   pcl::PointCloud<pcl::PointXYZ> one, two;
   for (int threads : {1, 2}) {
-    SparsePatchCloudInpainter<pcl::PointXYZ> inpainter;
+    GeometricCloudInpainter<pcl::PointXYZ> inpainter;
     inpainter.setInputCloud(cloud);
     inpainter.setNumberOfThreads(threads);
     inpainter.process(threads == 1 ? one : two);
@@ -264,10 +264,10 @@ TEST(SparsePatchCloudInpainter, SameOutputWhateverTheThreadCount)
   }
 }
 
-TEST(SparsePatchCloudInpainter, GivenNoiseAndBandwidthAreUsedAndBadOnesRefused)
+TEST(GeometricCloudInpainter, GivenNoiseAndBandwidthAreUsedAndBadOnesRefused)
 {
   const auto cloud = noisySphere(4000, 0.005, 0, 6);
-  SparsePatchCloudInpainter<pcl::PointXYZ> inpainter;
+  GeometricCloudInpainter<pcl::PointXYZ> inpainter;
   inpainter.setInputCloud(cloud);
   inpainter.setNoiseSigma(0.005);
   inpainter.setBandwidth(0.06);
@@ -283,7 +283,7 @@ TEST(SparsePatchCloudInpainter, GivenNoiseAndBandwidthAreUsedAndBadOnesRefused)
   inpainter.setNoiseSigma(std::nan(""));
   EXPECT_THROW(inpainter.process(out), Error);
 
-  SparsePatchCloudInpainter<pcl::PointXYZ> few;
+  GeometricCloudInpainter<pcl::PointXYZ> few;
   few.setInputCloud(noisySphere(99, 0.0, 0, 7));
   try {
     few.process(out);
@@ -321,13 +321,13 @@ pcl::PointCloud<pcl::PointNormal>::Ptr sphereWithHole(std::size_t n, double hole
   return cloud;
 }
 
-TEST(SparsePatchCloudInpainter, CompletesAHoleOnASphereAtTheInputDensityAndOnTheSurface)
+TEST(GeometricCloudInpainter, CompletesAHoleOnASphereAtTheInputDensityAndOnTheSurface)
 {
   const double hole = 0.3;  // radians: a cap of diameter ≈ 0.59 on the unit sphere (0.15 × its bbox: 0.3)
   const auto cloud = sphereWithHole(20000, hole, false, 8);
-  SparsePatchCloudInpainter<pcl::PointNormal> inpainter;
+  GeometricCloudInpainter<pcl::PointNormal> inpainter;
   inpainter.setInputCloud(cloud);
-  inpainter.setMode(SparsePatchCloudInpainter<pcl::PointNormal>::Mode::Complete);
+  inpainter.setMode(GeometricCloudInpainter<pcl::PointNormal>::Mode::Complete);
   inpainter.setMaxHoleDiameter(0.8);
   pcl::PointCloud<pcl::PointNormal> out;
   inpainter.process(out);
@@ -370,12 +370,12 @@ TEST(SparsePatchCloudInpainter, CompletesAHoleOnASphereAtTheInputDensityAndOnThe
   EXPECT_GT(covered, 830u);
 }
 
-TEST(SparsePatchCloudInpainter, AnOpenBorderWiderThanTheLimitStaysOpen)
+TEST(GeometricCloudInpainter, AnOpenBorderWiderThanTheLimitStaysOpen)
 {
   const auto cloud = sphereWithHole(12000, 0.0, true, 10);
-  SparsePatchCloudInpainter<pcl::PointNormal> inpainter;
+  GeometricCloudInpainter<pcl::PointNormal> inpainter;
   inpainter.setInputCloud(cloud);
-  inpainter.setMode(SparsePatchCloudInpainter<pcl::PointNormal>::Mode::Complete);
+  inpainter.setMode(GeometricCloudInpainter<pcl::PointNormal>::Mode::Complete);
   pcl::PointCloud<pcl::PointNormal> out;
   inpainter.process(out);  // default limit: 0.15 × the bbox side (2): 0.3, the opening is ≈ 1.96 wide
   EXPECT_EQ(inpainter.getReport().points_added, 0u);
