@@ -8,6 +8,7 @@
 
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/cloud_patch_fill.h>
 
 #include <pcl/common/io.h>
 #include <pcl/conversions.h>
@@ -54,6 +55,7 @@ struct CloudRepairResult {
   CloudDenoisingReport report;
   pcl::Indices records;  ///< the input record of every output point (kept, then added)
   pcl::Indices filled;   ///< a depth image's filled pixels
+  CloudPatchFillReport patches;  ///< the patch stage of an unorganised fill
   std::size_t removed() const
   {
     return report.outlier_filter_removed + report.residual_removed + report.unfit_removed;
@@ -142,6 +144,17 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
     pcl::PointCloud<pcl::PointXYZ> positions;
     run(inpainter, positions);
     pcl::copyPointCloud(positions, result.denoised);
+  }
+  if (line.fill && !result.report.depth_image && result.report.points_added > 0) {
+    CloudPatchFillOptions options;
+    options.decision = args.has("no-patches") ? PatchDecision::Never : PatchDecision::Auto;
+    const std::size_t kept = result.report.output_points;
+    std::vector<Eigen::Vector3d> observed(kept), added(result.denoised.size() - kept), corrected;
+    for (std::size_t i = 0; i < result.denoised.size(); ++i)
+      (i < kept ? observed[i] : added[i - kept]) = result.denoised[i].getVector3fMap().cast<double>();
+    correctCloudFillWithPatches(observed, added, result.report.mean_spacing, options, corrected, &result.patches);
+    for (std::size_t i = 0; i < corrected.size(); ++i)
+      result.denoised[kept + i].getVector3fMap() = corrected[i].cast<float>();
   }
   return result;
 }
@@ -366,6 +379,20 @@ JsonObject cloudRepairJson(const CloudRepairLine& line, const CloudInput& input,
   }
   if (report.depth_image)
     json.add("depth_image", depthImageJson(result, fill));
+  if (fill && !report.depth_image) {
+    const CloudPatchFillReport& p = result.patches;
+    JsonObject patches;
+    patches.add("decision", p.decision).add("reason", p.reason).add("holes", p.holes)
+        .add("hole_diameter", p.hole_diameter / scale).add("gain", p.gain)
+        .add("dictionary_rms", p.dictionary_rms / scale).add("smooth_rms", p.biharmonic_rms / scale)
+        .add("test_patches", p.test_patches).add("self_similar", p.self_similar)
+        .add("quad_length", p.quad_length / scale).add("patch_side", p.patch_side / scale).add("grid", p.grid_size)
+        .add("patches", p.patches).add("patches_used", p.patches_used).add("moved", p.moved_points)
+        .add("mean_correction", p.mean_correction / scale)
+        .add("seconds_layout", p.seconds_layout).add("seconds_check", p.seconds_check)
+        .add("seconds_patches", p.seconds_patches);
+    json.add("patches", patches);
+  }
   if (fill && !report.depth_image)
     json.add("free_space_dropped", report.free_space_dropped);
   json.add("removed_as_outliers", result.removed());

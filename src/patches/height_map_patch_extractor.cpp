@@ -59,6 +59,32 @@ double coordinateScale(const std::vector<Eigen::Vector3d>& points, const std::ve
 
 int threadCount(int requested) { return requested > 0 ? requested : omp_get_max_threads(); }
 
+/** A point's height spread over the bins whose centres lie within reach × bin of it (in the
+  * plane), weighted by a Gaussian of σ = reach × bin / 2: bins stay observed where random samples
+  * are sparser than the grid. */
+void splat(const Eigen::Vector3d& local, const Grid& grid, int n, double reach, std::vector<double>& sums,
+           std::vector<double>& weights)
+{
+  const double reach_length = reach * grid.bin;
+  const double inv_two_sigma_sq = 2.0 / (reach_length * reach_length);
+  const double x = (local.x() + grid.half) / grid.bin - 0.5, y = (local.y() + grid.half) / grid.bin - 0.5;
+  const int u0 = std::max(0, static_cast<int>(std::ceil(x - reach)));
+  const int u1 = std::min(n - 1, static_cast<int>(std::floor(x + reach)));
+  const int v0 = std::max(0, static_cast<int>(std::ceil(y - reach)));
+  const int v1 = std::min(n - 1, static_cast<int>(std::floor(y + reach)));
+  for (int v = v0; v <= v1; ++v)
+    for (int u = u0; u <= u1; ++u) {
+      const double dx = (u - x) * grid.bin, dy = (v - y) * grid.bin;
+      const double squared = dx * dx + dy * dy;
+      if (squared > reach_length * reach_length)
+        continue;
+      const double w = std::exp(-squared * inv_two_sigma_sq);
+      const std::size_t k = static_cast<std::size_t>(v) * n + static_cast<std::size_t>(u);
+      sums[k] += w * local.z();
+      weights[k] += w;
+    }
+}
+
 }  // namespace
 
 void HeightMapPatchExtractor::setSeeds(const std::vector<Eigen::Vector3d>& seeds,
@@ -264,7 +290,7 @@ void HeightMapPatchExtractor::computeCloud(PatchSet& out) const
     std::vector<int> neighbours;
     std::vector<float> distances;
     std::vector<double> sums(static_cast<std::size_t>(n) * n);
-    std::vector<int> counts(static_cast<std::size_t>(n) * n);
+    std::vector<double> counts(static_cast<std::size_t>(n) * n);
 #pragma omp for schedule(dynamic, 8)
     for (std::ptrdiff_t p = 0; p < static_cast<std::ptrdiff_t>(seeds_.size()); ++p) {
       const Eigen::Vector3d& seed = seeds_[static_cast<std::size_t>(p)];
@@ -273,21 +299,25 @@ void HeightMapPatchExtractor::computeCloud(PatchSet& out) const
       // Summation in index order: bit-identical means whatever FLANN's order and the thread count.
       std::sort(neighbours.begin(), neighbours.end());
       std::fill(sums.begin(), sums.end(), 0.0);
-      std::fill(counts.begin(), counts.end(), 0);
+      std::fill(counts.begin(), counts.end(), 0.0);
       for (const int index : neighbours) {
         const Eigen::Vector3d local = rotation * (points[static_cast<std::size_t>(index)] - seed);
         if (local.squaredNorm() > radius_squared)
           continue;
+        if (bin_reach_ > 0.0) {
+          splat(local, grid, n, bin_reach_, sums, counts);
+          continue;
+        }
         const double u = std::floor((local.x() + grid.half) / grid.bin);
         const double v = std::floor((local.y() + grid.half) / grid.bin);
         if (u < 0.0 || v < 0.0 || u >= n || v >= n)
           continue;
         const std::size_t k = static_cast<std::size_t>(v) * n + static_cast<std::size_t>(u);
         sums[k] += local.z();
-        ++counts[k];
+        counts[k] += 1.0;
       }
       for (std::size_t k = 0; k < sums.size(); ++k)
-        if (counts[k] > 0) {
+        if (counts[k] > 0.0) {
           out.heights(static_cast<Eigen::Index>(k), p) = sums[k] / counts[k];
           out.observed(static_cast<Eigen::Index>(k), p) = true;
         }

@@ -56,6 +56,8 @@ void PatchCorrection::checkParameters(const PatchCorrectionParameters& p)
     throw Error("the quad length factor must be > 0");
   if (!(p.patch_scale > 0.0) || !std::isfinite(p.patch_scale))
     throw Error("the patch scale must be > 0");
+  if (!std::isfinite(p.bin_reach) || p.bin_reach < 0.0 || p.bin_reach > 8.0)
+    throw Error("the bin reach must be in [0, 8]");
   if (p.overlap < 0 || p.sparsity < 1 || p.smoothing_iterations < 0)
     throw Error("overlap and smoothing iterations must be ≥ 0, sparsity ≥ 1");
   if (!(p.error_per_bin >= 0.0) || !std::isfinite(p.error_per_bin))
@@ -136,7 +138,7 @@ void PatchCorrection::checkInput() const
 {
   checkParameters(parameters_);
   const PatchCorrectionParameters& p = parameters_;
-  if (!estimate_ || estimate_->empty() || estimate_->faces.empty())
+  if (!estimate_ || estimate_->empty() || (estimate_->faces.empty() && !(layout_ && observed_surface_)))
     throw Error("patch correction: no estimate mesh (with faces) given");
   const TriangleMesh& estimate = *estimate_;
   if (!observed_faces_.empty() && observed_faces_.size() != estimate.numFaces())
@@ -187,7 +189,10 @@ std::vector<PatchSet> PatchCorrection::observedPatchesAtScales(const std::vector
   t = Clock::now();
   HeightMapPatchExtractor extractor;
   if (observed_surface_) {
-    extractor.setInputMesh(observed_surface_);
+    if (observed_surface_->faces.empty())
+      extractor.setInputCloud(observed_surface_);  // a point cloud: binned heights
+    else
+      extractor.setInputMesh(observed_surface_);
   } else if (observed_faces_.empty()) {
     extractor.setInputMesh(estimate_);
   } else {
@@ -200,12 +205,13 @@ std::vector<PatchSet> PatchCorrection::observedPatchesAtScales(const std::vector
       throw Error("no face is observed: there is no surface to fit patches to");
     extractor.setInputMesh(observed);
   }
-  if (observed_surface_ && observed_surface_->faces.empty())
-    throw Error("no face is observed: there is no surface to fit patches to");
+  if (observed_surface_ && observed_surface_->vertices.empty())
+    throw Error("the observed surface is empty: there is no surface to fit patches to");
   const int grid = dictionary_ ? dictionary_->gridSize() : (p.grid_size > 0 ? p.grid_size : 16);
   r.grid_size = grid;
   extractor.setSeeds(layout.seeds, layout.frames);
   extractor.setGridSize(grid);
+  extractor.setBinReach(p.bin_reach);
   extractor.setNumberOfThreads(p.num_threads);
   std::vector<PatchSet> sets;
   for (double scale : patch_scales) {
@@ -452,7 +458,11 @@ void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& 
   }
   // A target facing away from a patch's Z is on another sheet (a thin wall's far side): the
   // patch sampled the sheet facing it (the same membership test as the reconstruction's).
-  const std::vector<Eigen::Vector3d> normals = computeVertexNormals(estimate);
+  const std::vector<Eigen::Vector3d> normals =
+      estimate.faces.empty() ? (estimate.hasNormals() ? estimate.normals
+                                                      : std::vector<Eigen::Vector3d>(estimate.numVertices(),
+                                                                                      Eigen::Vector3d::Zero()))
+                             : computeVertexNormals(estimate);
 #pragma omp parallel for schedule(dynamic, 64) num_threads(threadCount(p.num_threads))
   for (std::ptrdiff_t ti = 0; ti < static_cast<std::ptrdiff_t>(targets_.size()); ++ti) {
     const std::int32_t v = targets_[static_cast<std::size_t>(ti)];

@@ -55,6 +55,11 @@ public:
   /** N: bins per side (default 16). */
   void setGridSize(int grid_size) { grid_size_ = grid_size; }
   int getGridSize() const { return grid_size_; }
+  /** Binned mode: 0 (default, the paper's) — a bin's height is the mean of the points in it; > 0 —
+    * the Gaussian-weighted mean (σ = reach/2 bins) of the points within `reach` bins of its centre
+    * in the plane, so that random samples sparser than the grid still observe every bin. */
+  void setBinReach(double reach) { bin_reach_ = reach; }
+  double getBinReach() const { return bin_reach_; }
   /** Threads for the loop over seeds; 0 = OpenMP's default. Results do not depend on it. */
   void setNumberOfThreads(int threads) { threads_ = threads; }
   /** Value stored in PatchSet::source for every patch (which input shape this is). */
@@ -78,6 +83,7 @@ private:
   double radius_ = 0.0;
   int grid_size_ = 16;
   int threads_ = 0;
+  double bin_reach_ = 0.0;
   std::int32_t source_index_ = 0;
 };
 

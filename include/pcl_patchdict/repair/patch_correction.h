@@ -39,6 +39,9 @@ struct PatchCorrectionParameters {
   bool surface_normals = true;
   /// N, bins per side: 0 = the dictionary's (16 for a self-similar one); another N is an error.
   int grid_size = 0;
+  /// Point-cloud observed surfaces: a bin's height from the points within this many bins of its
+  /// centre (HeightMapPatchExtractor::setBinReach; 0: the points in the bin, the paper's rule).
+  double bin_reach = 0.0;
   int self_similar_atoms = 100;  ///< self-similar dictionary (none given): atoms,
   int self_similar_iterations = 15;     ///< K-SVD iterations,
   int self_similar_max_patches = 4000;  ///< and an evenly spaced subset of the usable patches
@@ -81,7 +84,9 @@ public:
   using Ptr = std::shared_ptr<PatchCorrection>;
   using ConstPtr = std::shared_ptr<const PatchCorrection>;
 
-  /** The current estimate (unit-cube normalised): layout, frames and the targets' positions. */
+  /** The current estimate (unit-cube normalised): layout, frames and the targets' positions. A
+    * point cloud (no faces) works with a layout given (setLayout); its normals, if any, tell the
+    * targets' sides (a target facing away from a patch takes no constraint from it). */
   void setEstimate(const std::shared_ptr<const TriangleMesh>& estimate) { estimate_ = estimate; }
   /** One flag per face of the estimate: true = its surface is data (empty: every face). */
   void setObservedFaces(const std::vector<bool>& observed) { observed_faces_ = observed; }

@@ -1,0 +1,97 @@
+// correctCloudFillWithPatches — the patch stage of cloud hole completion (Sarkar et al. 2017,
+// sections 3–5, on points): a geometric fill's new points moved onto masked-OMP-completed patches.
+#pragma once
+
+#include <pcl_patchdict/coding/patch_dictionary.h>
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pcl {
+namespace patchdict {
+
+/** Whether the patch stage applies: Auto decides by measurement (the relief check), Always and
+  * Never force it. */
+enum class PatchDecision { Auto, Always, Never };
+
+struct CloudPatchFillOptions {
+  PatchDecision decision = PatchDecision::Auto;
+  /// A dictionary of grid_size × grid_size atoms learned elsewhere (e.g. from clean scans of the
+  /// same kind); null: a self-similar one, learned from the cloud's own fully observed patches.
+  PatchDictionary::ConstPtr dictionary;
+  /// N, bins per side: 0 = the dictionary's, or else the even N whose bin is about bin_spacings
+  /// × s on the middle probe side, within [16, 48] (a relief's walls need bins of a few spacings).
+  int grid_size = 0;
+  double bin_spacings = 3.0;
+  /// A bin's height: the Gaussian-weighted mean of the input points within this many bins of its
+  /// centre (random samples leave no bin of an observed patch empty).
+  double bin_reach = 1.0;
+  int sparsity = 0;  ///< atoms per code; 0 = N / 2 (8 at 16 × 16, as the mesh repairs)
+  /// L = quad_factor × d, d the median diameter of the filled holes: patches as wide as the holes,
+  /// so that every patch over a hole sees its rim (the mesh repair's relief setting).
+  double quad_factor = 0.8;
+  int overlap = 3;  ///< k of the layout: 4k offset seeds per quad
+  /// Patch sides tried by the check, × d; the one with the best significant gain is used.
+  std::vector<double> probe_factors{0.8, 1.2, 1.6};
+  double probe_radius = 0.35;  ///< hidden disc of the check, × d (at most 0.3 × the side)
+  double relief_gain = 1.3;    ///< the check's gain needed to apply the patches…
+  double min_improvement = 0.1;  ///< …with an rms improvement of at least this × the spacing
+  /// The coarse shape for the layout is made from at most this many points (evenly strided): it
+  /// only has to be right at the scale of L, and Poisson's time grows with the points.
+  std::size_t layout_points = 10000;
+  /// Weight of staying at the fill, relative to the patches' point-to-plane terms.
+  double fidelity = 0.01;
+  int num_threads = 0;
+  std::uint64_t seed = 0;
+};
+
+struct CloudPatchFillReport {
+  std::string decision;          ///< "applied", "declined" (why in `reason`) or "not run"
+  std::string reason;
+  std::size_t holes = 0;         ///< connected groups of new points
+  double hole_diameter = 0.0;    ///< d, median over the groups (input units)
+  double spacing = 0.0;          ///< s used (input units)
+  double quad_length = 0.0, patch_side = 0.0;  ///< input units
+  int grid_size = 0;             ///< N used
+  double gain = 0.0;             ///< the check's best (significant) gain: biharmonic rms / dictionary rms
+  double dictionary_rms = 0.0, biharmonic_rms = 0.0;  ///< at that side (input units)
+  std::size_t test_patches = 0;
+  bool self_similar = false;
+  std::size_t patches = 0, patches_used = 0;
+  std::size_t moved_points = 0;  ///< new points with at least one patch over them
+  double mean_correction = 0.0;  ///< mean |moved − fill| over the moved points (input units)
+  double seconds_layout = 0.0, seconds_check = 0.0, seconds_patches = 0.0;
+};
+
+/** \brief Moves the new points of a geometric hole fill onto the cloud's patches.
+  *
+  *  1. The new points are grouped into holes (linked within 3 s); d = the median group diameter.
+  *  2. A layout (coarse shape by Poisson + Laplacian smoothing → quads → frames) of L = quad_factor·d
+  *     over the input and new points together; seeds moved along their Z onto the points.
+  *  3. Heights binned from the input points only: the new points' bins are unobserved.
+  *  4. The relief check (checkPatchPrediction): a disc hidden in the fully observed patches,
+  *     predicted by masked OMP over the dictionary and by a biharmonic fill of the grid; the patches
+  *     apply (Auto) when the dictionary's rms is below the fill's by relief_gain and by
+  *     min_improvement × s. Smooth surfaces tie, and then the geometric fill is kept as it is.
+  *  5. Masked OMP completes every patch over a hole; each new point x0 moves by the δ minimising
+  *     Σ w (n·(x0 + δ − p))² + fidelity·Σw·|δ|² over the patches whose square holds it (p the
+  *     coded surface at x0's tangent coordinates, n its normal, w its confidence).
+  *
+  * `observed` are the input points, `added` the fill's; `spacing` s (input units; ≤ 0: the mean
+  * nearest-neighbour spacing of `observed`). `corrected` receives one position per added point
+  * (the fill itself when the patches are declined). Deterministic for a given input, options and
+  * seed, whatever the thread count. Throws Error for fewer than 100 observed points, non-finite
+  * positions or bad options. */
+void correctCloudFillWithPatches(const std::vector<Eigen::Vector3d>& observed, const std::vector<Eigen::Vector3d>& added,
+                                 double spacing, const CloudPatchFillOptions& options,
+                                 std::vector<Eigen::Vector3d>& corrected, CloudPatchFillReport* report = nullptr);
+
+/** Throws Error when an option is out of range. */
+void checkCloudPatchFillOptions(const CloudPatchFillOptions& options);
+
+}  // namespace patchdict
+}  // namespace pcl

@@ -1,0 +1,316 @@
+// correctCloudFillWithPatches (cloud_patch_fill.h): the mesh repair's relief stage (layout, masked
+// OMP, relief check) run on points, with a per-point least-squares move instead of a mesh solve.
+#include <pcl_patchdict/cloud/cloud_patch_fill.h>
+
+#include <pcl_patchdict/core/error.h>
+#include <pcl_patchdict/core/normalization.h>
+#include <pcl_patchdict/quads/patch_layout.h>
+#include <pcl_patchdict/repair/patch_correction.h>
+#include <pcl_patchdict/repair/patch_prediction_check.h>
+
+#include "pcl/point_conversion.h"
+
+#include <pcl/kdtree/kdtree_flann.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <numeric>
+
+namespace pcl {
+namespace patchdict {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+void requireFinite(const std::vector<Eigen::Vector3d>& points, const char* what)
+{
+  for (const auto& p : points)
+    if (!p.allFinite())
+      throw Error(std::string("patch fill: the ") + what + " points must be finite");
+}
+
+/** Mean distance of each of (up to 20,000 evenly strided) points to its nearest other point. */
+double meanSpacing(const std::vector<Eigen::Vector3d>& points)
+{
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(detail::toCloudXYZ(points));
+  const std::size_t stride = std::max<std::size_t>(1, points.size() / 20000);
+  double sum = 0.0;
+  std::size_t count = 0;
+  std::vector<int> near(2);
+  std::vector<float> squared(2);
+  for (std::size_t i = 0; i < points.size(); i += stride)
+    if (tree.nearestKSearch(detail::toPointXYZ(points[i]), 2, near, squared) == 2) {
+      sum += std::sqrt(static_cast<double>(squared[1]));
+      ++count;
+    }
+  return count ? sum / static_cast<double>(count) : 0.0;
+}
+
+/** Connected groups of `points` linked within `link`; returns the group of each point. */
+std::vector<int> groupPoints(const std::vector<Eigen::Vector3d>& points, double link, int& groups)
+{
+  std::vector<int> group(points.size(), -1);
+  groups = 0;
+  if (points.empty())
+    return group;
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(detail::toCloudXYZ(points));
+  std::vector<int> near;
+  std::vector<float> squared;
+  for (std::size_t start = 0; start < points.size(); ++start) {
+    if (group[start] >= 0)
+      continue;
+    std::vector<std::size_t> stack{start};
+    group[start] = groups;
+    while (!stack.empty()) {
+      const std::size_t i = stack.back();
+      stack.pop_back();
+      tree.radiusSearch(detail::toPointXYZ(points[i]), static_cast<float>(link), near, squared);
+      for (int j : near)
+        if (group[static_cast<std::size_t>(j)] < 0) {
+          group[static_cast<std::size_t>(j)] = groups;
+          stack.push_back(static_cast<std::size_t>(j));
+        }
+    }
+    ++groups;
+  }
+  return group;
+}
+
+/** Median diameter (2 × the largest distance from the centroid) of the groups of ≥ 10 points. */
+double medianGroupDiameter(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& group, int groups)
+{
+  std::vector<Eigen::Vector3d> centre(static_cast<std::size_t>(groups), Eigen::Vector3d::Zero());
+  std::vector<std::size_t> count(static_cast<std::size_t>(groups), 0);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    centre[static_cast<std::size_t>(group[i])] += points[i];
+    ++count[static_cast<std::size_t>(group[i])];
+  }
+  for (std::size_t g = 0; g < centre.size(); ++g)
+    centre[g] /= static_cast<double>(std::max<std::size_t>(count[g], 1));
+  std::vector<double> reach(centre.size(), 0.0);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const std::size_t g = static_cast<std::size_t>(group[i]);
+    reach[g] = std::max(reach[g], (points[i] - centre[g]).norm());
+  }
+  std::vector<double> diameters;
+  for (std::size_t g = 0; g < reach.size(); ++g)
+    if (count[g] >= 10)
+      diameters.push_back(2.0 * reach[g]);
+  if (diameters.empty())
+    return 0.0;
+  std::nth_element(diameters.begin(), diameters.begin() + static_cast<std::ptrdiff_t>(diameters.size() / 2),
+                   diameters.end());
+  return diameters[diameters.size() / 2];
+}
+
+/** Each seed moved along its frame's Z onto the points: by the mean height of its 16 nearest. */
+void moveSeedsOntoPoints(const std::vector<Eigen::Vector3d>& points, PatchLayout& layout)
+{
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(detail::toCloudXYZ(points));
+  const int k = static_cast<int>(std::min<std::size_t>(16, points.size()));
+  std::vector<int> near(static_cast<std::size_t>(k));
+  std::vector<float> squared(static_cast<std::size_t>(k));
+  for (std::size_t i = 0; i < layout.seeds.size(); ++i) {
+    const Eigen::Vector3d z = layout.frames[i].row(2).transpose();
+    const int found = tree.nearestKSearch(detail::toPointXYZ(layout.seeds[i]), k, near, squared);
+    if (found <= 0)
+      continue;
+    double height = 0.0;
+    for (int j = 0; j < found; ++j)
+      height += z.dot(points[static_cast<std::size_t>(near[static_cast<std::size_t>(j)])] - layout.seeds[i]);
+    layout.seeds[i] += z * (height / found);
+  }
+}
+
+/** The relief check over the probe sides: fills the report's gain and returns the chosen patch
+  * scale (× L), or 0 when no side's gain is significant. */
+double probeRelief(const PatchCorrection& correction, const CloudPatchFillOptions& o, double d, double quad_length,
+                   double spacing, const PatchCorrectionParameters& p, CloudPatchFillReport& r)
+{
+  std::vector<double> scales;
+  for (double f : o.probe_factors)
+    scales.push_back(f * d / quad_length);
+  const std::vector<PatchSet> sets = correction.observedPatchesAtScales(scales);
+  double best_significant = 0.0, best_any = 0.0, best_scale = 0.0;
+  for (std::size_t i = 0; i < sets.size(); ++i) {
+    const double side = scales[i] * quad_length;
+    const PatchPredictionCheck check =
+        checkPatchPrediction(sets[i], std::min(o.probe_radius * d, 0.3 * side), o.dictionary, p, 10);
+    const bool significant = check.biharmonic_rms - check.dictionary_rms >= o.min_improvement * spacing;
+    const bool record = significant ? check.gain > best_significant : best_significant == 0.0 && check.gain > best_any;
+    if (record) {
+      r.dictionary_rms = check.dictionary_rms;
+      r.biharmonic_rms = check.biharmonic_rms;
+      r.test_patches = check.test_patches;
+    }
+    if (significant && check.gain > best_significant) {
+      best_significant = check.gain;
+      best_scale = scales[i];
+    }
+    best_any = std::max(best_any, check.gain);
+  }
+  r.gain = best_significant > 0.0 ? best_significant : best_any;
+  return best_significant >= o.relief_gain ? best_scale : 0.0;
+}
+
+/** x0 + δ, δ minimising Σ w (n·(x0 + δ − p))² + fidelity·Σw·|δ|². */
+Eigen::Vector3d solveMove(const Eigen::Vector3d& x0, const std::vector<PointToPlaneConstraint>& list, double fidelity)
+{
+  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  double sum_w = 0.0;
+  for (const auto& c : list) {
+    a += c.weight * c.normal * c.normal.transpose();
+    b += c.weight * c.normal * c.normal.dot(c.point - x0);
+    sum_w += c.weight;
+  }
+  if (!(sum_w > 0.0))
+    return x0;
+  a += fidelity * sum_w * Eigen::Matrix3d::Identity();
+  return x0 + a.ldlt().solve(b);
+}
+
+}  // namespace
+
+void checkCloudPatchFillOptions(const CloudPatchFillOptions& o)
+{
+  const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+  if (o.grid_size != 0 && (o.grid_size < 2 || o.grid_size > 256))
+    throw Error("patch fill: the grid size must be 0 (automatic) or in [2, 256]");
+  if (o.sparsity < 0 || o.overlap < 0 || o.overlap > 16)
+    throw Error("patch fill: sparsity must be ≥ 0 and overlap in [0, 16]");
+  if (!positive(o.bin_spacings) || !std::isfinite(o.bin_reach) || o.bin_reach < 0.0 || o.bin_reach > 8.0)
+    throw Error("patch fill: bin spacings must be > 0 and the bin reach in [0, 8]");
+  if (!positive(o.quad_factor) || !positive(o.probe_radius) || !positive(o.relief_gain) ||
+      !std::isfinite(o.min_improvement) || o.min_improvement < 0.0 || !std::isfinite(o.fidelity) || o.fidelity < 0.0)
+    throw Error("patch fill: quad factor, probe radius and gain must be > 0, improvement and fidelity ≥ 0");
+  if (o.probe_factors.empty() || !std::all_of(o.probe_factors.begin(), o.probe_factors.end(), positive))
+    throw Error("patch fill: the probe factors must be > 0");
+  if (o.layout_points < 100)
+    throw Error("patch fill: the layout needs at least 100 points");
+  if (o.dictionary && (o.dictionary->empty() || (o.grid_size != 0 && o.dictionary->gridSize() != o.grid_size)))
+    throw Error("patch fill: the dictionary must have " + std::to_string(o.grid_size) + "×" +
+                std::to_string(o.grid_size) + " atoms");
+}
+
+void correctCloudFillWithPatches(const std::vector<Eigen::Vector3d>& observed, const std::vector<Eigen::Vector3d>& added,
+                                 double spacing, const CloudPatchFillOptions& o,
+                                 std::vector<Eigen::Vector3d>& corrected, CloudPatchFillReport* report)
+{
+  CloudPatchFillReport local;
+  CloudPatchFillReport& r = report ? *report : local;
+  r = CloudPatchFillReport();
+  checkCloudPatchFillOptions(o);
+  if (observed.size() < 100)
+    throw Error("patch fill: fewer than 100 observed points");
+  requireFinite(observed, "observed");
+  requireFinite(added, "added");
+  corrected = added;
+  r.decision = "not run";
+  r.spacing = spacing > 0.0 && std::isfinite(spacing) ? spacing : meanSpacing(observed);
+  int groups = 0;
+  const std::vector<int> group = groupPoints(added, 3.0 * r.spacing, groups);
+  r.holes = static_cast<std::size_t>(groups);
+  r.hole_diameter = medianGroupDiameter(added, group, groups);
+  if (added.empty() || o.decision == PatchDecision::Never || !(r.hole_diameter > 0.0)) {
+    r.reason = added.empty() ? "no point was added" : o.decision == PatchDecision::Never ? "patches off" : "no hole";
+    if (o.decision == PatchDecision::Never)
+      r.decision = "declined";
+    return;
+  }
+
+  // Work in the unit cube, where the layout's and the correction's defaults are set.
+  TriangleMesh all;
+  all.vertices = observed;
+  all.vertices.insert(all.vertices.end(), added.begin(), added.end());
+  const UnitCubeNormalization norm = UnitCubeNormalization::fromMesh(all);
+  norm.apply(all);
+  auto observed_cloud = std::make_shared<TriangleMesh>();
+  observed_cloud->vertices.assign(all.vertices.begin(), all.vertices.begin() + static_cast<std::ptrdiff_t>(observed.size()));
+  const double d = norm.applyLength(r.hole_diameter), s = norm.applyLength(r.spacing);
+
+  auto t = Clock::now();
+  PatchCorrectionParameters p;
+  p.quad_length = o.quad_factor * d;
+  p.overlap = o.overlap;
+  const double middle_side = o.probe_factors[o.probe_factors.size() / 2] * d;
+  p.grid_size = o.dictionary ? o.dictionary->gridSize()
+                : o.grid_size > 0 ? o.grid_size
+                                  : std::clamp(2 * static_cast<int>(std::lround(middle_side / (2.0 * o.bin_spacings * s))), 16, 48);
+  p.sparsity = o.sparsity > 0 ? o.sparsity : std::max(1, p.grid_size / 2);
+  r.grid_size = p.grid_size;
+  p.bin_reach = o.bin_reach;
+  p.fit_scale = 0.0;
+  p.agreement_scale = 0.0;
+  p.num_threads = o.num_threads;
+  p.seed = o.seed;
+  TriangleMesh coarse_input;
+  const std::size_t stride = (all.vertices.size() + o.layout_points - 1) / o.layout_points;
+  for (std::size_t i = 0; i < all.vertices.size(); i += stride)
+    coarse_input.vertices.push_back(all.vertices[i]);
+  auto layout = std::make_shared<PatchLayout>();
+  computePatchLayout(coarse_input, PatchCorrection::layoutParameters(p, p.quad_length), *layout);
+  moveSeedsOntoPoints(all.vertices, *layout);
+  r.seconds_layout = secondsSince(t);
+  r.quad_length = norm.invertLength(p.quad_length);
+
+  auto estimate = std::make_shared<TriangleMesh>(std::move(all));
+  std::vector<std::int32_t> targets(added.size());
+  std::iota(targets.begin(), targets.end(), static_cast<std::int32_t>(observed.size()));
+  PatchCorrection correction;
+  correction.setEstimate(estimate);
+  correction.setObservedSurface(observed_cloud);
+  correction.setLayout(layout);
+  correction.setTargets(targets);
+  correction.setDictionary(o.dictionary);
+  correction.setParameters(p);
+
+  t = Clock::now();
+  double scale = probeRelief(correction, o, d, p.quad_length, s, p, r);
+  r.seconds_check = secondsSince(t);
+  r.dictionary_rms = norm.invertLength(r.dictionary_rms);
+  r.biharmonic_rms = norm.invertLength(r.biharmonic_rms);
+  if (scale == 0.0 && o.decision == PatchDecision::Auto) {
+    r.decision = "declined";
+    r.reason = r.test_patches == 0 ? "too few fully observed patches to measure"
+                                   : "the dictionary predicts hidden surface no better than a smooth fill";
+    return;
+  }
+  if (scale == 0.0)
+    scale = o.probe_factors.front() * d / p.quad_length;
+  p.patch_scale = scale;
+  correction.setParameters(p);
+  r.patch_side = norm.invertLength(scale * p.quad_length);
+
+  t = Clock::now();
+  std::vector<std::vector<PointToPlaneConstraint>> constraints;
+  PatchCorrectionReport pr;
+  correction.compute(constraints, &pr);
+  r.patches = pr.patches;
+  r.patches_used = pr.patches_used;
+  r.self_similar = pr.self_similar;
+  double moved = 0.0;
+  for (std::size_t i = 0; i < added.size(); ++i) {
+    if (constraints[i].empty())
+      continue;
+    const Eigen::Vector3d x0 = estimate->vertices[observed.size() + i];
+    corrected[i] = norm.invert(solveMove(x0, constraints[i], o.fidelity));
+    moved += (corrected[i] - added[i]).norm();
+    ++r.moved_points;
+  }
+  r.mean_correction = r.moved_points ? moved / static_cast<double>(r.moved_points) : 0.0;
+  r.seconds_patches = secondsSince(t);
+  r.decision = "applied";
+}
+
+}  // namespace patchdict
+}  // namespace pcl
