@@ -8,7 +8,7 @@
 
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
-#include <pcl_patchdict/cloud/cloud_patch_fill.h>
+#include <pcl_patchdict/cloud/sparse_patch_inpainter.h>
 
 #include <pcl/common/io.h>
 #include <pcl/conversions.h>
@@ -112,24 +112,31 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
   result.mode = !line.fill ? Inpainter::Mode::Denoise
                 : args.has("denoise") ? Inpainter::Mode::DenoiseAndComplete
                                       : Inpainter::Mode::Complete;
+  PatchDictionary::ConstPtr dictionary;
+  if (args.has("dict"))
+    dictionary = PatchDictionary::load(args.get("dict"));
   const auto run = [&](auto& inpainter, auto& out) {
+    auto& base = inpainter.getGeometricInpainter();
     inpainter.setInputCloud(cloud);
-    inpainter.setParameters(parameters);
+    base.setParameters(parameters);
     // An unorganised PCD whose VIEWPOINT is not the default one was seen from there.
     if (cloud->height <= 1 && input.from_pcd &&
         (!input.origin.head<3>().isZero() || !input.orientation.isApprox(Eigen::Quaternionf::Identity())))
-      inpainter.setViewpoint((input.origin.head<3>().cast<double>() - input.offset).eval());
+      base.setViewpoint((input.origin.head<3>().cast<double>() - input.offset).eval());
     inpainter.setMode(static_cast<typename std::decay_t<decltype(inpainter)>::Mode>(static_cast<int>(result.mode)));
     CloudCompletionParameters completion = line.completion;
     completion.max_hole_diameter *= scale;
-    inpainter.setCompletionParameters(completion);
-    inpainter.setOrganizedFillParameters(line.organized);
-    using Choice = typename std::decay_t<decltype(inpainter)>::HeightField;
-    inpainter.setHeightField(line.height_field == "yes"  ? Choice::Always
-                             : line.height_field == "no" ? Choice::Never
-                                                         : Choice::Auto);
+    base.setCompletionParameters(completion);
+    base.setOrganizedFillParameters(line.organized);
+    using Choice = typename std::decay_t<decltype(base)>::HeightField;
+    base.setHeightField(line.height_field == "yes"  ? Choice::Always
+                        : line.height_field == "no" ? Choice::Never
+                                                    : Choice::Auto);
+    inpainter.setDictionary(dictionary);
+    inpainter.setPatchDecision(args.has("no-patches") ? PatchDecision::Never : PatchDecision::Auto);
     inpainter.process(out);
     result.report = inpainter.getReport();
+    result.patches = inpainter.getPatchReport();
     result.records = inpainter.getKeptIndices();
     result.records.insert(result.records.end(), inpainter.getAddedSources().begin(), inpainter.getAddedSources().end());
     if (inpainter.getReport().depth_image)
@@ -137,24 +144,13 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
   };
   // Normals are computed (and oriented) only when the output keeps them: the input had them.
   if (input.has_normals) {
-    Inpainter inpainter;
+    SparsePatchInpainter<pcl::PointNormal, pcl::PointNormal> inpainter;
     run(inpainter, result.denoised);
   } else {
-    GeometricCloudInpainter<pcl::PointNormal, pcl::PointXYZ> inpainter;
+    SparsePatchInpainter<pcl::PointNormal, pcl::PointXYZ> inpainter;
     pcl::PointCloud<pcl::PointXYZ> positions;
     run(inpainter, positions);
     pcl::copyPointCloud(positions, result.denoised);
-  }
-  if (line.fill && !result.report.depth_image && result.report.points_added > 0) {
-    CloudPatchFillOptions options;
-    options.decision = args.has("no-patches") ? PatchDecision::Never : PatchDecision::Auto;
-    const std::size_t kept = result.report.output_points;
-    std::vector<Eigen::Vector3d> observed(kept), added(result.denoised.size() - kept), corrected;
-    for (std::size_t i = 0; i < result.denoised.size(); ++i)
-      (i < kept ? observed[i] : added[i - kept]) = result.denoised[i].getVector3fMap().cast<double>();
-    correctCloudFillWithPatches(observed, added, result.report.mean_spacing, options, corrected, &result.patches);
-    for (std::size_t i = 0; i < corrected.size(); ++i)
-      result.denoised[kept + i].getVector3fMap() = corrected[i].cast<float>();
   }
   return result;
 }
@@ -436,8 +432,12 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
   StageTimer timer(line.quiet);
   timer.start("load");
   const CloudInput input = loadCloudInput(line.in_path);  // an unreadable input is reported first
-  if (args.has("dict"))
-    throw UsageError("--dict: the cloud path fits local quadric patches and takes no dictionary (yet)");
+  if (args.has("self-similar") && (args.has("dict") || args.has("no-patches")))
+    throw UsageError("--self-similar excludes --dict and --no-patches");
+  if (args.has("dict") && args.has("no-patches"))
+    throw UsageError("--dict excludes --no-patches");
+  if (!fill && (args.has("dict") || args.has("self-similar")))
+    throw UsageError("--dict, --self-similar: patches correct cloud hole fills; cloud denoising is the geometric one");
   const pcl::PointCloud<pcl::PointNormal>::Ptr& cloud = input.cloud;
   note(line.quiet, "  " + std::to_string(cloud->size()) + " points" +
                        (cloud->height > 1 ? " (organised " + std::to_string(cloud->width) + " x " +

@@ -236,8 +236,9 @@ std::vector<OptionSpec> cloudDenoisingOptions()
           integer("outlier-neighbours", "K", 50, 1, 1000, "neighbours of the outlier pre-filter"),
           real("outlier-std", "M", 1.0, 0.0, 1e6, "pre-filter threshold: mean + M standard deviations"),
           real("residual-outliers", "F", 4.0, 0.0, 1e6, "points farther than F σ from their patch are removed"),
-          flag("no-patches", "accepted: the cloud path's result is the geometric one"),
-          hidden(text("dict", "DICT.pdd", ""))};
+          flag("no-patches", "the geometric result alone (hole fills: no patch stage)"),
+          flag("self-similar", "hole fills: patches of a dictionary learned from the input (the default)"),
+          text("dict", "DICT.pdd", "hole fills: code the patches over this dictionary")};
 }
 
 /** The commands that make and score surfaces and patches (demo ... reconstruct). */

@@ -84,8 +84,10 @@ std::vector<int> groupPoints(const std::vector<Eigen::Vector3d>& points, double 
   return group;
 }
 
-/** Median diameter (2 × the largest distance from the centroid) of the groups of ≥ 10 points. */
-double medianGroupDiameter(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& group, int groups)
+/** Median diameter (2 × the largest distance from the centroid) of the groups of ≥ 10 points (the
+  * holes; their number in `large_groups`). */
+double medianGroupDiameter(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& group, int groups,
+                           std::size_t& large_groups)
 {
   std::vector<Eigen::Vector3d> centre(static_cast<std::size_t>(groups), Eigen::Vector3d::Zero());
   std::vector<std::size_t> count(static_cast<std::size_t>(groups), 0);
@@ -104,6 +106,7 @@ double medianGroupDiameter(const std::vector<Eigen::Vector3d>& points, const std
   for (std::size_t g = 0; g < reach.size(); ++g)
     if (count[g] >= 10)
       diameters.push_back(2.0 * reach[g]);
+  large_groups = diameters.size();
   if (diameters.empty())
     return 0.0;
   std::nth_element(diameters.begin(), diameters.begin() + static_cast<std::ptrdiff_t>(diameters.size() / 2),
@@ -219,8 +222,7 @@ void correctCloudFillWithPatches(const std::vector<Eigen::Vector3d>& observed, c
   r.spacing = spacing > 0.0 && std::isfinite(spacing) ? spacing : meanSpacing(observed);
   int groups = 0;
   const std::vector<int> group = groupPoints(added, 3.0 * r.spacing, groups);
-  r.holes = static_cast<std::size_t>(groups);
-  r.hole_diameter = medianGroupDiameter(added, group, groups);
+  r.hole_diameter = medianGroupDiameter(added, group, groups, r.holes);
   if (added.empty() || o.decision == PatchDecision::Never || !(r.hole_diameter > 0.0)) {
     r.reason = added.empty() ? "no point was added" : o.decision == PatchDecision::Never ? "patches off" : "no hole";
     if (o.decision == PatchDecision::Never)

@@ -52,7 +52,7 @@ struct CloudPatchFillOptions {
 struct CloudPatchFillReport {
   std::string decision;          ///< "applied", "declined" (why in `reason`) or "not run"
   std::string reason;
-  std::size_t holes = 0;         ///< connected groups of new points
+  std::size_t holes = 0;         ///< connected groups of ≥ 10 new points
   double hole_diameter = 0.0;    ///< d, median over the groups (input units)
   double spacing = 0.0;          ///< s used (input units)
   double quad_length = 0.0, patch_side = 0.0;  ///< input units
