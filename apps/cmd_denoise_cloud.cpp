@@ -39,6 +39,7 @@ struct CloudRepairLine {
   CloudCompletionParameters completion;  ///< max_hole_diameter in those units; 0: each fill's own bound
   OrganizedFillParameters organized;
   std::string height_field = "auto";
+  std::string patches = "auto";  ///< --patches: auto or always
   /// The bound the report names: the one given, or Poisson's own (CloudHoleCompletion's 0.15 × the
   /// largest side when max_hole_diameter is 0).
   double reportedMaxHoleDiameter() const
@@ -55,7 +56,8 @@ struct CloudRepairResult {
   CloudDenoisingReport report;
   pcl::Indices records;  ///< the input record of every output point (kept, then added)
   pcl::Indices filled;   ///< a depth image's filled pixels
-  CloudPatchFillReport patches;  ///< the patch stage of an unorganised fill
+  CloudPatchReport patches;  ///< the patch stage of an unorganised fill
+  CloudPatchReport denoise_patches;  ///< …and of the denoising
   std::size_t removed() const
   {
     return report.outlier_filter_removed + report.residual_removed + report.unfit_removed;
@@ -94,6 +96,7 @@ CloudRepairLine readCloudRepairLine(const Arguments& args, bool fill)
     line.organized.fit_ring = static_cast<int>(args.getInt("fit-ring"));
     line.height_field = args.getWord("height-field");
   }
+  line.patches = args.getWord("patches");
   return line;
 }
 
@@ -133,10 +136,13 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
                         : line.height_field == "no" ? Choice::Never
                                                     : Choice::Auto);
     inpainter.setDictionary(dictionary);
-    inpainter.setPatchDecision(args.has("no-patches") ? PatchDecision::Never : PatchDecision::Auto);
+    inpainter.setPatchDecision(args.has("no-patches")                 ? PatchDecision::Never
+                               : line.patches == "always" ? PatchDecision::Always
+                                                                     : PatchDecision::Auto);
     inpainter.process(out);
     result.report = inpainter.getReport();
     result.patches = inpainter.getPatchReport();
+    result.denoise_patches = inpainter.getDenoisingPatchReport();
     result.records = inpainter.getKeptIndices();
     result.records.insert(result.records.end(), inpainter.getAddedSources().begin(), inpainter.getAddedSources().end());
     if (inpainter.getReport().depth_image)
@@ -339,7 +345,26 @@ JsonObject depthImageJson(const CloudRepairResult& result, bool fill)
   return image;
 }
 
-// 5. --json.
+// 5. --json: a patch stage (lengths in the report's unit), then the whole report.
+JsonObject patchStageJson(const CloudPatchReport& p, double scale)
+{
+  JsonObject patches;
+  patches.add("decision", p.decision).add("reason", p.reason);
+  if (p.hole_diameter > 0.0)
+    patches.add("holes", p.holes).add("hole_diameter", p.hole_diameter / scale);
+  patches.add("gain", p.gain).add("dictionary_rms", p.dictionary_rms / scale)
+      .add("smooth_rms", p.biharmonic_rms / scale).add("test_patches", p.test_patches)
+      .add("self_similar", p.self_similar).add("quad_length", p.quad_length / scale)
+      .add("patch_side", p.patch_side / scale).add("grid", p.grid_size).add("patches", p.patches)
+      .add("patches_used", p.patches_used).add("moved", p.moved_points)
+      .add("mean_correction", p.mean_correction / scale);
+  if (p.base_error > 0.0)
+    patches.add("base_error", p.base_error / scale).add("patch_error", p.patch_error / scale);
+  patches.add("seconds_layout", p.seconds_layout)
+      .add("seconds_check", p.seconds_check).add("seconds_patches", p.seconds_patches);
+  return patches;
+}
+
 JsonObject cloudRepairJson(const CloudRepairLine& line, const CloudInput& input, const CloudRepairResult& result,
                            const StageTimer& timer)
 {
@@ -375,19 +400,11 @@ JsonObject cloudRepairJson(const CloudRepairLine& line, const CloudInput& input,
   }
   if (report.depth_image)
     json.add("depth_image", depthImageJson(result, fill));
-  if (fill && !report.depth_image) {
-    const CloudPatchFillReport& p = result.patches;
-    JsonObject patches;
-    patches.add("decision", p.decision).add("reason", p.reason).add("holes", p.holes)
-        .add("hole_diameter", p.hole_diameter / scale).add("gain", p.gain)
-        .add("dictionary_rms", p.dictionary_rms / scale).add("smooth_rms", p.biharmonic_rms / scale)
-        .add("test_patches", p.test_patches).add("self_similar", p.self_similar)
-        .add("quad_length", p.quad_length / scale).add("patch_side", p.patch_side / scale).add("grid", p.grid_size)
-        .add("patches", p.patches).add("patches_used", p.patches_used).add("moved", p.moved_points)
-        .add("mean_correction", p.mean_correction / scale)
-        .add("seconds_layout", p.seconds_layout).add("seconds_check", p.seconds_check)
-        .add("seconds_patches", p.seconds_patches);
-    json.add("patches", patches);
+  if (!report.depth_image) {
+    if (fill)
+      json.add("patches", patchStageJson(result.patches, scale));
+    if (result.mode != Inpainter::Mode::Complete)
+      json.add("denoise_patches", patchStageJson(result.denoise_patches, scale));
   }
   if (fill && !report.depth_image)
     json.add("free_space_dropped", report.free_space_dropped);
@@ -436,8 +453,8 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
     throw UsageError("--self-similar excludes --dict and --no-patches");
   if (args.has("dict") && args.has("no-patches"))
     throw UsageError("--dict excludes --no-patches");
-  if (!fill && (args.has("dict") || args.has("self-similar")))
-    throw UsageError("--dict, --self-similar: patches correct cloud hole fills; cloud denoising is the geometric one");
+  if (args.has("no-patches") && args.has("patches"))
+    throw UsageError("--no-patches excludes --patches");
   const pcl::PointCloud<pcl::PointNormal>::Ptr& cloud = input.cloud;
   note(line.quiet, "  " + std::to_string(cloud->size()) + " points" +
                        (cloud->height > 1 ? " (organised " + std::to_string(cloud->width) + " x " +

@@ -236,9 +236,10 @@ std::vector<OptionSpec> cloudDenoisingOptions()
           integer("outlier-neighbours", "K", 50, 1, 1000, "neighbours of the outlier pre-filter"),
           real("outlier-std", "M", 1.0, 0.0, 1e6, "pre-filter threshold: mean + M standard deviations"),
           real("residual-outliers", "F", 4.0, 0.0, 1e6, "points farther than F σ from their patch are removed"),
-          flag("no-patches", "the geometric result alone (hole fills: no patch stage)"),
-          flag("self-similar", "hole fills: patches of a dictionary learned from the input (the default)"),
-          text("dict", "DICT.pdd", "hole fills: code the patches over this dictionary")};
+          flag("no-patches", "the geometric result alone (no patch stage)"),
+          flag("self-similar", "patches of a dictionary learned from the input (the default; applied if measured to help)"),
+          word("patches", {"auto", "always"}, "auto", "apply the patches when measured to help, or always (to measure them)"),
+          text("dict", "DICT.pdd", "code the patches over this dictionary (applied if measured to help)")};
 }
 
 /** The commands that make and score surfaces and patches (demo ... reconstruct). */

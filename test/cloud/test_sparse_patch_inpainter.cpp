@@ -46,7 +46,7 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr holedCloud(const Height& height)
 
 struct Fill {
   pcl::PointCloud<pcl::PointXYZ> out;
-  pcl::patchdict::CloudPatchFillReport patches;
+  pcl::patchdict::CloudPatchReport patches;
   std::size_t added = 0;
   double mean_error = 0.0;  ///< mean |z − height(x, y)| of the added points
 };
@@ -119,16 +119,16 @@ TEST(SparsePatchInpainter, SameOutputWhateverTheThreadCount)
 
 TEST(SparsePatchInpainter, BadPatchOptionsAreOneClearError)
 {
-  pcl::patchdict::CloudPatchFillOptions options;
+  pcl::patchdict::CloudPatchOptions options;
   options.quad_factor = -1.0;
-  EXPECT_THROW(pcl::patchdict::checkCloudPatchFillOptions(options), pcl::patchdict::Error);
+  EXPECT_THROW(pcl::patchdict::checkCloudPatchOptions(options), pcl::patchdict::Error);
   options = {};
   options.probe_factors.clear();
-  EXPECT_THROW(pcl::patchdict::checkCloudPatchFillOptions(options), pcl::patchdict::Error);
+  EXPECT_THROW(pcl::patchdict::checkCloudPatchOptions(options), pcl::patchdict::Error);
   options = {};
   options.grid_size = 1;
-  EXPECT_THROW(pcl::patchdict::checkCloudPatchFillOptions(options), pcl::patchdict::Error);
-  EXPECT_NO_THROW(pcl::patchdict::checkCloudPatchFillOptions({}));
+  EXPECT_THROW(pcl::patchdict::checkCloudPatchOptions(options), pcl::patchdict::Error);
+  EXPECT_NO_THROW(pcl::patchdict::checkCloudPatchOptions({}));
 }
 
 }  // namespace

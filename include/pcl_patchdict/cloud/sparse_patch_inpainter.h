@@ -2,7 +2,7 @@
 // geometric repair as the base, patches of a dictionary where they are measured to do better.
 #pragma once
 
-#include <pcl_patchdict/cloud/cloud_patch_fill.h>
+#include <pcl_patchdict/cloud/cloud_patch_correction.h>
 #include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
 
 #include <pcl/point_cloud.h>
@@ -19,7 +19,10 @@ namespace patchdict {
   *  1. The base is a GeometricCloudInpainter (local quadrics, spline and implicit fills, depth
   *     images; getGeometricInpainter() sets it up): it denoises, and in the Complete modes adds
   *     points in the holes at the input's density.
-  *  2. Unorganised clouds, Complete modes: correctCloudFillWithPatches moves the new points onto
+  *  2. Unorganised clouds, Denoise modes: denoiseCloudWithPatches moves the base's points onto
+  *     patches binned from the points as measured and sparse-coded to the noise level, when the
+  *     relief check measures the dictionary ahead of a smooth fill (getDenoisingPatchReport()).
+  *  3. Unorganised clouds, Complete modes: correctCloudFillWithPatches moves the new points onto
   *     patches completed by masked OMP over a dictionary (setDictionary; none: self-similar, learned
   *     from the cloud's own patches), when the relief check measures the dictionary ahead of a
   *     smooth fill (setPatchDecision(Auto), the default); otherwise the base is the result, point for
@@ -53,8 +56,8 @@ public:
   /** Auto (default): patches where the relief check measures them ahead; Always; Never (the base). */
   void setPatchDecision(PatchDecision decision) { patch_options_.decision = decision; }
   PatchDecision getPatchDecision() const { return patch_options_.decision; }
-  void setPatchFillOptions(const CloudPatchFillOptions& options) { patch_options_ = options; }
-  const CloudPatchFillOptions& getPatchFillOptions() const { return patch_options_; }
+  void setPatchOptions(const CloudPatchOptions& options) { patch_options_ = options; }
+  const CloudPatchOptions& getPatchOptions() const { return patch_options_; }
   void setNumberOfThreads(int threads)
   {
     base_.setNumberOfThreads(threads);
@@ -63,7 +66,9 @@ public:
 
   /** What the base did, and what the patch stage decided and did, in the last process(). */
   const CloudDenoisingReport& getReport() const { return base_.getReport(); }
-  const CloudPatchFillReport& getPatchReport() const { return patch_report_; }
+  const CloudPatchReport& getPatchReport() const { return patch_report_; }
+  /** The patch stage of the denoising (Denoise and DenoiseAndComplete modes). */
+  const CloudPatchReport& getDenoisingPatchReport() const { return denoise_report_; }
   const pcl::Indices& getKeptIndices() const { return base_.getKeptIndices(); }
   const pcl::Indices& getAddedSources() const { return base_.getAddedSources(); }
 
@@ -75,8 +80,8 @@ private:
   using pcl::CloudSurfaceProcessing<PointInT, PointOutT>::indices_;
 
   Base base_;
-  CloudPatchFillOptions patch_options_;
-  CloudPatchFillReport patch_report_;
+  CloudPatchOptions patch_options_;
+  CloudPatchReport patch_report_, denoise_report_;
 };
 
 }  // namespace patchdict

@@ -1,6 +1,6 @@
-// correctCloudFillWithPatches (cloud_patch_fill.h): the mesh repair's relief stage (layout, masked
-// OMP, relief check) run on points, with a per-point least-squares move instead of a mesh solve.
-#include <pcl_patchdict/cloud/cloud_patch_fill.h>
+// correctCloudFillWithPatches and denoiseCloudWithPatches (cloud_patch_correction.h): the mesh
+// repair's relief stage (layout, masked OMP, relief check) on points, each moved by least squares.
+#include <pcl_patchdict/cloud/cloud_patch_correction.h>
 
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/core/normalization.h>
@@ -136,8 +136,8 @@ void moveSeedsOntoPoints(const std::vector<Eigen::Vector3d>& points, PatchLayout
 
 /** The relief check over the probe sides: fills the report's gain and returns the chosen patch
   * scale (× L), or 0 when no side's gain is significant. */
-double probeRelief(const PatchCorrection& correction, const CloudPatchFillOptions& o, double d, double quad_length,
-                   double spacing, const PatchCorrectionParameters& p, CloudPatchFillReport& r)
+double probeRelief(const PatchCorrection& correction, const CloudPatchOptions& o, double d, double quad_length,
+                   double spacing, const PatchCorrectionParameters& p, CloudPatchReport& r)
 {
   std::vector<double> scales;
   for (double f : o.probe_factors)
@@ -184,7 +184,7 @@ Eigen::Vector3d solveMove(const Eigen::Vector3d& x0, const std::vector<PointToPl
 
 }  // namespace
 
-void checkCloudPatchFillOptions(const CloudPatchFillOptions& o)
+void checkCloudPatchOptions(const CloudPatchOptions& o)
 {
   const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
   if (o.grid_size != 0 && (o.grid_size < 2 || o.grid_size > 256))
@@ -198,6 +198,9 @@ void checkCloudPatchFillOptions(const CloudPatchFillOptions& o)
     throw Error("patch fill: quad factor, probe radius and gain must be > 0, improvement and fidelity ≥ 0");
   if (o.probe_factors.empty() || !std::all_of(o.probe_factors.begin(), o.probe_factors.end(), positive))
     throw Error("patch fill: the probe factors must be > 0");
+  if (!positive(o.denoise_scale) || !std::isfinite(o.error_factor) || o.error_factor < 0.0 ||
+      !std::isfinite(o.min_risk_reduction) || o.min_risk_reduction < 0.0 || o.min_risk_reduction >= 1.0)
+    throw Error("patch denoising: the scale must be > 0 and the error factor ≥ 0");
   if (o.layout_points < 100)
     throw Error("patch fill: the layout needs at least 100 points");
   if (o.dictionary && (o.dictionary->empty() || (o.grid_size != 0 && o.dictionary->gridSize() != o.grid_size)))
@@ -205,40 +208,33 @@ void checkCloudPatchFillOptions(const CloudPatchFillOptions& o)
                 std::to_string(o.grid_size) + " atoms");
 }
 
-void correctCloudFillWithPatches(const std::vector<Eigen::Vector3d>& observed, const std::vector<Eigen::Vector3d>& added,
-                                 double spacing, const CloudPatchFillOptions& o,
-                                 std::vector<Eigen::Vector3d>& corrected, CloudPatchFillReport* report)
-{
-  CloudPatchFillReport local;
-  CloudPatchFillReport& r = report ? *report : local;
-  r = CloudPatchFillReport();
-  checkCloudPatchFillOptions(o);
-  if (observed.size() < 100)
-    throw Error("patch fill: fewer than 100 observed points");
-  requireFinite(observed, "observed");
-  requireFinite(added, "added");
-  corrected = added;
-  r.decision = "not run";
-  r.spacing = spacing > 0.0 && std::isfinite(spacing) ? spacing : meanSpacing(observed);
-  int groups = 0;
-  const std::vector<int> group = groupPoints(added, 3.0 * r.spacing, groups);
-  r.hole_diameter = medianGroupDiameter(added, group, groups, r.holes);
-  if (added.empty() || o.decision == PatchDecision::Never || !(r.hole_diameter > 0.0)) {
-    r.reason = added.empty() ? "no point was added" : o.decision == PatchDecision::Never ? "patches off" : "no hole";
-    if (o.decision == PatchDecision::Never)
-      r.decision = "declined";
-    return;
-  }
+namespace {
 
-  // Work in the unit cube, where the layout's and the correction's defaults are set.
+/** What the fill and the denoiser hand the shared stage: the points patches are binned from, the
+  * estimate (layout and targets: its points from first_target on), and the patch scale d. */
+struct StageInput {
+  const std::vector<Eigen::Vector3d>& observed;
+  const std::vector<Eigen::Vector3d>& estimate;
+  std::size_t first_target = 0;
+  double d = 0.0;              ///< input units
+  double error_per_bin = 0.0;  ///< input units (0: always `sparsity` atoms)
+};
+
+/** The shared stage: layout over the estimate, patches binned from the observed points, the
+  * relief check, and the moves of the targets onto the coded patches (`corrected`, one per target,
+  * left as they are when the patches are declined). */
+void runPatchStage(const StageInput& in, const CloudPatchOptions& o, std::vector<Eigen::Vector3d>& corrected,
+                   CloudPatchReport& r)
+{
   TriangleMesh all;
-  all.vertices = observed;
-  all.vertices.insert(all.vertices.end(), added.begin(), added.end());
+  all.vertices = in.estimate;
   const UnitCubeNormalization norm = UnitCubeNormalization::fromMesh(all);
   norm.apply(all);
   auto observed_cloud = std::make_shared<TriangleMesh>();
-  observed_cloud->vertices.assign(all.vertices.begin(), all.vertices.begin() + static_cast<std::ptrdiff_t>(observed.size()));
-  const double d = norm.applyLength(r.hole_diameter), s = norm.applyLength(r.spacing);
+  observed_cloud->vertices.reserve(in.observed.size());
+  for (const auto& q : in.observed)
+    observed_cloud->vertices.push_back(norm.apply(q));
+  const double d = norm.applyLength(in.d), s = norm.applyLength(r.spacing);
 
   auto t = Clock::now();
   PatchCorrectionParameters p;
@@ -249,25 +245,33 @@ void correctCloudFillWithPatches(const std::vector<Eigen::Vector3d>& observed, c
                 : o.grid_size > 0 ? o.grid_size
                                   : std::clamp(2 * static_cast<int>(std::lround(middle_side / (2.0 * o.bin_spacings * s))), 16, 48);
   p.sparsity = o.sparsity > 0 ? o.sparsity : std::max(1, p.grid_size / 2);
-  r.grid_size = p.grid_size;
   p.bin_reach = o.bin_reach;
+  p.error_per_bin = norm.applyLength(in.error_per_bin);
   p.fit_scale = 0.0;
   p.agreement_scale = 0.0;
   p.num_threads = o.num_threads;
   p.seed = o.seed;
+  r.grid_size = p.grid_size;
   TriangleMesh coarse_input;
   const std::size_t stride = (all.vertices.size() + o.layout_points - 1) / o.layout_points;
   for (std::size_t i = 0; i < all.vertices.size(); i += stride)
     coarse_input.vertices.push_back(all.vertices[i]);
   auto layout = std::make_shared<PatchLayout>();
-  computePatchLayout(coarse_input, PatchCorrection::layoutParameters(p, p.quad_length), *layout);
+  try {
+    computePatchLayout(coarse_input, PatchCorrection::layoutParameters(p, p.quad_length), *layout);
+  } catch (const Error& e) {
+    // A cloud too small or too sparse for patches of this size: the geometric result stands.
+    r.decision = "declined";
+    r.reason = std::string("no patch layout: ") + e.what();
+    return;
+  }
   moveSeedsOntoPoints(all.vertices, *layout);
   r.seconds_layout = secondsSince(t);
   r.quad_length = norm.invertLength(p.quad_length);
 
   auto estimate = std::make_shared<TriangleMesh>(std::move(all));
-  std::vector<std::int32_t> targets(added.size());
-  std::iota(targets.begin(), targets.end(), static_cast<std::int32_t>(observed.size()));
+  std::vector<std::int32_t> targets(estimate->vertices.size() - in.first_target);
+  std::iota(targets.begin(), targets.end(), static_cast<std::int32_t>(in.first_target));
   PatchCorrection correction;
   correction.setEstimate(estimate);
   correction.setObservedSurface(observed_cloud);
@@ -301,17 +305,132 @@ void correctCloudFillWithPatches(const std::vector<Eigen::Vector3d>& observed, c
   r.patches_used = pr.patches_used;
   r.self_similar = pr.self_similar;
   double moved = 0.0;
-  for (std::size_t i = 0; i < added.size(); ++i) {
+  for (std::size_t i = 0; i < targets.size(); ++i) {
     if (constraints[i].empty())
       continue;
-    const Eigen::Vector3d x0 = estimate->vertices[observed.size() + i];
+    const Eigen::Vector3d& x0 = estimate->vertices[in.first_target + i];
     corrected[i] = norm.invert(solveMove(x0, constraints[i], o.fidelity));
-    moved += (corrected[i] - added[i]).norm();
+    moved += (corrected[i] - in.estimate[in.first_target + i]).norm();
     ++r.moved_points;
   }
   r.mean_correction = r.moved_points ? moved / static_cast<double>(r.moved_points) : 0.0;
   r.seconds_patches = secondsSince(t);
   r.decision = "applied";
+}
+
+/** The checks and report fields both entry points start with; false when the stage must not run. */
+bool startPatchStage(const std::vector<Eigen::Vector3d>& observed, const std::vector<Eigen::Vector3d>& targets,
+                     double spacing, const CloudPatchOptions& o, CloudPatchReport& r)
+{
+  r = CloudPatchReport();
+  checkCloudPatchOptions(o);
+  if (observed.size() < 100)
+    throw Error("patches: fewer than 100 observed points");
+  requireFinite(observed, "observed");
+  requireFinite(targets, "target");
+  r.decision = o.decision == PatchDecision::Never ? "declined" : "not run";
+  r.reason = o.decision == PatchDecision::Never ? "patches off" : "";
+  r.spacing = spacing > 0.0 && std::isfinite(spacing) ? spacing : meanSpacing(observed);
+  return o.decision != PatchDecision::Never && !targets.empty();
+}
+
+}  // namespace
+
+void correctCloudFillWithPatches(const std::vector<Eigen::Vector3d>& observed, const std::vector<Eigen::Vector3d>& added,
+                                 double spacing, const CloudPatchOptions& o,
+                                 std::vector<Eigen::Vector3d>& corrected, CloudPatchReport* report)
+{
+  CloudPatchReport local;
+  CloudPatchReport& r = report ? *report : local;
+  const bool run = startPatchStage(observed, added, spacing, o, r);
+  corrected = added;
+  int groups = 0;
+  const std::vector<int> group = groupPoints(added, 3.0 * r.spacing, groups);
+  r.hole_diameter = medianGroupDiameter(added, group, groups, r.holes);
+  if (!run || !(r.hole_diameter > 0.0)) {
+    if (r.reason.empty())
+      r.reason = added.empty() ? "no point was added" : "no hole";
+    return;
+  }
+  std::vector<Eigen::Vector3d> all = observed;
+  all.insert(all.end(), added.begin(), added.end());
+  runPatchStage({observed, all, observed.size(), r.hole_diameter, 0.0}, o, corrected, r);
+}
+
+void denoiseCloudWithPatches(const std::vector<Eigen::Vector3d>& noisy, const std::vector<Eigen::Vector3d>& base,
+                             double spacing, double noise_sigma, double base_risk, const CloudPatchOptions& o,
+                             std::vector<Eigen::Vector3d>& corrected, CloudPatchReport* report)
+{
+  CloudPatchReport local;
+  CloudPatchReport& r = report ? *report : local;
+  if (!std::isfinite(noise_sigma) || noise_sigma < 0.0 || !std::isfinite(base_risk))
+    throw Error("patch denoising: the noise sigma and the base's risk must be finite, the sigma ≥ 0");
+  if (noisy.size() != base.size())
+    throw Error("patch denoising: one base point per noisy point is needed");
+  const bool run = startPatchStage(noisy, base, spacing, o, r);
+  corrected = base;
+  if (!run) {
+    if (r.reason.empty())
+      r.reason = "no point to denoise";
+    return;
+  }
+  if (o.decision == PatchDecision::Auto && !(base_risk > 0.0)) {
+    r.decision = "declined";
+    r.reason = "the base's error has no estimate to compare with";
+    return;
+  }
+  // A bin averages the points within bin_reach bins: about π·reach²·(bin/s)²/2 of them.
+  const double bin = o.bin_spacings * r.spacing;
+  const double per_bin = std::max(1.0, M_PI * o.bin_reach * o.bin_reach * (bin / r.spacing) * (bin / r.spacing) / 2.0);
+  // Patches of at most a fifth of the cloud's largest side (a small cloud has no room for more).
+  Eigen::Vector3d low = base.front(), high = base.front();
+  for (const auto& q : base) {
+    low = low.cwiseMin(q);
+    high = high.cwiseMax(q);
+  }
+  const double d = std::min(o.denoise_scale * r.spacing, 0.2 * (high - low).maxCoeff()), epsilon = o.error_factor * noise_sigma / std::sqrt(per_bin);
+  r.base_error = std::sqrt(base_risk > 0.0 ? base_risk : 0.0);
+  if (o.decision == PatchDecision::Auto) {
+    // Two-fold cross-validation: patches from the even points predict the odd ones, whose noise they
+    // never saw: mean squared miss = σ² + the patches' error (on half the data: a pessimistic
+    // figure, so a tie goes to the base).
+    std::vector<Eigen::Vector3d> even, estimate, odd;
+    for (std::size_t i = 0; i < noisy.size(); i += 2) {
+      even.push_back(noisy[i]);
+      estimate.push_back(base[i]);
+    }
+    for (std::size_t i = 1; i < noisy.size(); i += 2)
+      odd.push_back(noisy[i]);
+    estimate.insert(estimate.end(), odd.begin(), odd.end());
+    CloudPatchOptions always = o;
+    always.decision = PatchDecision::Always;
+    CloudPatchReport cv = r;
+    std::vector<Eigen::Vector3d> predicted = odd;
+    runPatchStage({even, estimate, even.size(), d, epsilon}, always, predicted, cv);
+    if (cv.decision == "declined") {
+      r.decision = cv.decision;
+      r.reason = cv.reason;
+      return;
+    }
+    double squared = 0.0;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < odd.size(); ++i)
+      if (predicted[i] != odd[i]) {
+        squared += (predicted[i] - odd[i]).squaredNorm();
+        ++count;
+      }
+    const double patch_risk = count ? squared / static_cast<double>(count) - noise_sigma * noise_sigma : 0.0;
+    r.patch_error = std::sqrt(std::max(patch_risk, 0.0));
+    r.seconds_check += cv.seconds_layout + cv.seconds_check + cv.seconds_patches;
+    if (count == 0 || !(patch_risk < (1.0 - o.min_risk_reduction) * base_risk)) {
+      r.decision = "declined";
+      r.reason = "cross-validated, the patches' error is not below the geometric base's";
+      return;
+    }
+  }
+  CloudPatchOptions always = o;
+  always.decision = PatchDecision::Always;  // measured above: the relief check does not decide here
+  runPatchStage({noisy, base, 0, d, epsilon}, always, corrected, r);
 }
 
 }  // namespace patchdict

@@ -1,5 +1,5 @@
-// correctCloudFillWithPatches — the patch stage of cloud hole completion (Sarkar et al. 2017,
-// sections 3–5, on points): a geometric fill's new points moved onto masked-OMP-completed patches.
+// The patch stage of the cloud path (Sarkar et al. 2017, sections 3–5, on points): a geometric hole
+// fill's new points, or a geometric denoiser's output, moved onto sparse-coded patches.
 #pragma once
 
 #include <pcl_patchdict/coding/patch_dictionary.h>
@@ -18,7 +18,7 @@ namespace patchdict {
   * Never force it. */
 enum class PatchDecision { Auto, Always, Never };
 
-struct CloudPatchFillOptions {
+struct CloudPatchOptions {
   PatchDecision decision = PatchDecision::Auto;
   /// A dictionary of grid_size × grid_size atoms learned elsewhere (e.g. from clean scans of the
   /// same kind); null: a self-similar one, learned from the cloud's own fully observed patches.
@@ -45,11 +45,19 @@ struct CloudPatchFillOptions {
   std::size_t layout_points = 10000;
   /// Weight of staying at the fill, relative to the patches' point-to-plane terms.
   double fidelity = 0.01;
+  /// Denoising: no hole sizes the patches, so d = denoise_scale × s.
+  double denoise_scale = 40.0;
+  /// Denoising: a code stops once its rms misfit over the observed bins is ≤ error_factor × σ /
+  /// √(points a bin averages).
+  double error_factor = 1.0;
+  /// Denoising, Auto: the patches apply when their cross-validated squared error is below the
+  /// base's estimated one by at least this fraction.
+  double min_risk_reduction = 0.05;
   int num_threads = 0;
   std::uint64_t seed = 0;
 };
 
-struct CloudPatchFillReport {
+struct CloudPatchReport {
   std::string decision;          ///< "applied", "declined" (why in `reason`) or "not run"
   std::string reason;
   std::size_t holes = 0;         ///< connected groups of ≥ 10 new points
@@ -64,6 +72,9 @@ struct CloudPatchFillReport {
   std::size_t patches = 0, patches_used = 0;
   std::size_t moved_points = 0;  ///< new points with at least one patch over them
   double mean_correction = 0.0;  ///< mean |moved − fill| over the moved points (input units)
+  /// Denoising: the base's estimated rms error (Stein's risk at its bandwidth) and the patches'
+  /// cross-validated one, which decided (input units).
+  double base_error = 0.0, patch_error = 0.0;
   double seconds_layout = 0.0, seconds_check = 0.0, seconds_patches = 0.0;
 };
 
@@ -87,11 +98,24 @@ struct CloudPatchFillReport {
   * seed, whatever the thread count. Throws Error for fewer than 100 observed points, non-finite
   * positions or bad options. */
 void correctCloudFillWithPatches(const std::vector<Eigen::Vector3d>& observed, const std::vector<Eigen::Vector3d>& added,
-                                 double spacing, const CloudPatchFillOptions& options,
-                                 std::vector<Eigen::Vector3d>& corrected, CloudPatchFillReport* report = nullptr);
+                                 double spacing, const CloudPatchOptions& options,
+                                 std::vector<Eigen::Vector3d>& corrected, CloudPatchReport* report = nullptr);
+
+/** \brief Denoising by patches (K-SVD denoising on the surface, Elad & Aharon 2006, in the paper's
+  * patches): the same stage as correctCloudFillWithPatches with d = denoise_scale × s, heights
+  * binned from the `noisy` points, the layout and targets the geometric `base` (one denoised point
+  * per noisy one), codes stopping at the noise level σ. Auto decides by measurement: patches from
+  * the even points predict the odd ones (two-fold cross-validation), and their squared error (the
+  * mean squared miss less σ²) must be below `base_risk`, the base's estimated mean squared error
+  * (≤ 0: unknown, and the base is kept). The relief check is not the test here: a dictionary can
+  * predict a hidden relief better than a smooth fill and still denoise worse than local quadrics.
+  * `corrected` gets one position per base point (the base itself when declined). */
+void denoiseCloudWithPatches(const std::vector<Eigen::Vector3d>& noisy, const std::vector<Eigen::Vector3d>& base,
+                             double spacing, double noise_sigma, double base_risk, const CloudPatchOptions& options,
+                             std::vector<Eigen::Vector3d>& corrected, CloudPatchReport* report = nullptr);
 
 /** Throws Error when an option is out of range. */
-void checkCloudPatchFillOptions(const CloudPatchFillOptions& options);
+void checkCloudPatchOptions(const CloudPatchOptions& options);
 
 }  // namespace patchdict
 }  // namespace pcl
