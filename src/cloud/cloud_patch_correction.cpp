@@ -201,6 +201,8 @@ void checkCloudPatchOptions(const CloudPatchOptions& o)
   if (!positive(o.denoise_scale) || !std::isfinite(o.error_factor) || o.error_factor < 0.0 ||
       !std::isfinite(o.min_risk_reduction) || o.min_risk_reduction < 0.0 || o.min_risk_reduction >= 1.0)
     throw Error("patch denoising: the scale must be > 0 and the error factor ≥ 0");
+  if (o.probe_max_seeds < 100)
+    throw Error("patch fill: the check needs at least 100 seeds");
   if (o.layout_points < 100)
     throw Error("patch fill: the layout needs at least 100 points");
   if (o.dictionary && (o.dictionary->empty() || (o.grid_size != 0 && o.dictionary->gridSize() != o.grid_size)))
@@ -280,8 +282,18 @@ void runPatchStage(const StageInput& in, const CloudPatchOptions& o, std::vector
   correction.setDictionary(o.dictionary);
   correction.setParameters(p);
 
+  // The check runs on an evenly spaced subset of the seeds (it needs tens of test patches, not all).
   t = Clock::now();
+  auto probe_layout = std::make_shared<PatchLayout>();
+  probe_layout->quad_length = layout->quad_length;
+  const std::size_t probe_stride = (layout->seeds.size() + o.probe_max_seeds - 1) / o.probe_max_seeds;
+  for (std::size_t i = 0; i < layout->seeds.size(); i += probe_stride) {
+    probe_layout->seeds.push_back(layout->seeds[i]);
+    probe_layout->frames.push_back(layout->frames[i]);
+  }
+  correction.setLayout(probe_layout);
   double scale = probeRelief(correction, o, d, p.quad_length, s, p, r);
+  correction.setLayout(layout);
   r.seconds_check = secondsSince(t);
   r.dictionary_rms = norm.invertLength(r.dictionary_rms);
   r.biharmonic_rms = norm.invertLength(r.biharmonic_rms);

@@ -40,6 +40,7 @@ struct CloudPatchOptions {
   double probe_radius = 0.35;  ///< hidden disc of the check, × d (at most 0.3 × the side)
   double relief_gain = 1.3;    ///< the check's gain needed to apply the patches…
   double min_improvement = 0.1;  ///< …with an rms improvement of at least this × the spacing
+  std::size_t probe_max_seeds = 1500;  ///< the check uses an evenly spaced subset of at most this many seeds
   /// The coarse shape for the layout is made from at most this many points (evenly strided): it
   /// only has to be right at the scale of L, and Poisson's time grows with the points.
   std::size_t layout_points = 10000;
