@@ -59,14 +59,14 @@ double coordinateScale(const std::vector<Eigen::Vector3d>& points, const std::ve
 
 int threadCount(int requested) { return requested > 0 ? requested : omp_get_max_threads(); }
 
-/** A point's height spread over the bins whose centres lie within reach × bin of it (in the
-  * plane), weighted by a Gaussian of σ = reach × bin / 2: bins stay observed where random samples
-  * are sparser than the grid. */
+/** A point's height spread over the bins whose centres lie within R = reach × bin of it (in the
+  * plane), weighted by the biweight (1 − d²/R²)² (close to a Gaussian of σ = R/2, without an
+  * exponential per bin): bins stay observed where random samples are sparser than the grid. */
 void splat(const Eigen::Vector3d& local, const Grid& grid, int n, double reach, std::vector<double>& sums,
            std::vector<double>& weights)
 {
   const double reach_length = reach * grid.bin;
-  const double inv_two_sigma_sq = 2.0 / (reach_length * reach_length);
+  const double inv_reach_sq = 1.0 / (reach_length * reach_length);
   const double x = (local.x() + grid.half) / grid.bin - 0.5, y = (local.y() + grid.half) / grid.bin - 0.5;
   const int u0 = std::max(0, static_cast<int>(std::ceil(x - reach)));
   const int u1 = std::min(n - 1, static_cast<int>(std::floor(x + reach)));
@@ -75,10 +75,10 @@ void splat(const Eigen::Vector3d& local, const Grid& grid, int n, double reach, 
   for (int v = v0; v <= v1; ++v)
     for (int u = u0; u <= u1; ++u) {
       const double dx = (u - x) * grid.bin, dy = (v - y) * grid.bin;
-      const double squared = dx * dx + dy * dy;
-      if (squared > reach_length * reach_length)
+      const double q = 1.0 - (dx * dx + dy * dy) * inv_reach_sq;
+      if (q <= 0.0)
         continue;
-      const double w = std::exp(-squared * inv_two_sigma_sq);
+      const double w = q * q;
       const std::size_t k = static_cast<std::size_t>(v) * n + static_cast<std::size_t>(u);
       sums[k] += w * local.z();
       weights[k] += w;

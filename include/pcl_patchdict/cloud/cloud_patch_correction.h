@@ -27,7 +27,7 @@ struct CloudPatchOptions {
   /// × s on the middle probe side, within [16, 48] (a relief's walls need bins of a few spacings).
   int grid_size = 0;
   double bin_spacings = 3.0;
-  /// A bin's height: the Gaussian-weighted mean of the input points within this many bins of its
+  /// A bin's height: the biweight-weighted mean of the input points within this many bins of its
   /// centre (random samples leave no bin of an observed patch empty).
   double bin_reach = 1.0;
   int sparsity = 0;  ///< atoms per code; 0 = N / 2 (8 at 16 × 16, as the mesh repairs)

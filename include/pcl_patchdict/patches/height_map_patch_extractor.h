@@ -56,7 +56,7 @@ public:
   void setGridSize(int grid_size) { grid_size_ = grid_size; }
   int getGridSize() const { return grid_size_; }
   /** Binned mode: 0 (default, the paper's) — a bin's height is the mean of the points in it; > 0 —
-    * the Gaussian-weighted mean (σ = reach/2 bins) of the points within `reach` bins of its centre
+    * the biweight-weighted mean, (1 − d²/R²)² with R = reach bins, of the points within R of its centre
     * in the plane, so that random samples sparser than the grid still observe every bin. */
   void setBinReach(double reach) { bin_reach_ = reach; }
   double getBinReach() const { return bin_reach_; }
