@@ -5,7 +5,7 @@
 #include "options.h"
 #include "surface_patches.h"
 
-#include <pcl_patchdict/patches/height_map_patch_extractor.h>
+#include <pcl_patchdict/patches/height_maps.h>
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
@@ -93,13 +93,11 @@ int reconstructCloud(const Arguments& args, const ReconstructLine& line, Triangl
   timer.start("seeds");
   const SeedsAndFrames seeds = computeSeedsAndFrames(reference, line.quad_length, line.overlap, line.seed, line.placement);
   timer.start("extract");
-  HeightMapPatchExtractor extractor;
-  extractor.setInputCloud(std::make_shared<const TriangleMesh>(reference));
-  extractor.setSeeds(seeds.seeds, seeds.frames);
-  extractor.setRadius(line.quad_length / std::sqrt(2.0));
-  extractor.setGridSize(line.grid_size);
+  HeightMapParameters parameters;
+  parameters.radius = line.quad_length / std::sqrt(2.0);
+  parameters.grid_size = line.grid_size;
   PatchSet patches;
-  extractor.compute(patches);
+  extractCloudHeightMaps(reference.vertices, seeds.seeds, seeds.frames, parameters, patches);
   const double patch_rmse = dictionary ? codeThroughDictionary(*dictionary, line.sparsity, patches) : 0.0;
   timer.start("reconstruct");
   TriangleMesh result;

@@ -3,7 +3,7 @@
 #include "cli.h"
 
 #include <pcl_patchdict/geometry/coarse_mesh_estimation.h>
-#include <pcl_patchdict/patches/height_map_patch_extractor.h>
+#include <pcl_patchdict/patches/height_maps.h>
 #include <pcl_patchdict/geometry/mesh_hygiene.h>
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/pcl/conversions.h>
@@ -53,12 +53,10 @@ SurfacePatches surfacePatches(const std::string& path, const SurfacePatchOptions
                                                      options.overlap, options.seed, options.placement);
   stage("extract");
   if (out.is_cloud) {
-    HeightMapPatchExtractor extractor;
-    extractor.setInputCloud(std::make_shared<const TriangleMesh>(surface));
-    extractor.setSeeds(seeds.seeds, seeds.frames);
-    extractor.setRadius(options.quad_length / std::sqrt(2.0));
-    extractor.setGridSize(options.grid_size);
-    extractor.compute(out.patches);
+    HeightMapParameters parameters;
+    parameters.radius = options.quad_length / std::sqrt(2.0);
+    parameters.grid_size = options.grid_size;
+    extractCloudHeightMaps(surface.vertices, seeds.seeds, seeds.frames, parameters, out.patches);
   } else {
     out.patches = extractMeshPatches(surface, seeds, options.quad_length, options.grid_size);
   }

@@ -4,7 +4,7 @@
 // apart, over [-0.5, 0.5] × [-0.35, 0.35], without 12 discs of radius 0.035 (the harness's hole size).
 #include <pcl_patchdict/cloud/sparse_patch_inpainter.h>
 #include <pcl_patchdict/core/local_frame.h>
-#include <pcl_patchdict/patches/height_map_patch_extractor.h>
+#include <pcl_patchdict/patches/height_maps.h>
 #include <pcl_patchdict/patches/patch_set.h>
 
 #include <benchmark/benchmark.h>
@@ -73,25 +73,23 @@ BENCHMARK(BM_ReliefCloudCompletion)->Arg(1)->Arg(2)->Unit(benchmark::kSecond)->I
   * seeds on the cloud with frames from the plane's normal. */
 void BM_ReliefCloudExtraction(benchmark::State& state)
 {
-  auto surface = std::make_shared<TriangleMesh>();
+  std::vector<Eigen::Vector3d> points;
   for (const auto& p : *sharedCloud())
-    surface->vertices.emplace_back(p.x, p.y, p.z);
+    points.emplace_back(p.x, p.y, p.z);
   std::mt19937_64 random(3);
-  std::uniform_int_distribution<std::size_t> pick(0, surface->vertices.size() - 1);
+  std::uniform_int_distribution<std::size_t> pick(0, points.size() - 1);
   std::vector<Eigen::Vector3d> seeds(20000);
   for (auto& s : seeds)
-    s = surface->vertices[pick(random)];
+    s = points[pick(random)];
   const std::vector<Eigen::Matrix3d> frames(seeds.size(), frameFromNormal(Eigen::Vector3d::UnitZ()));
-  HeightMapPatchExtractor extractor;
-  extractor.setInputCloud(surface);
-  extractor.setSeeds(seeds, frames);
-  extractor.setRadius(0.09 / std::sqrt(2.0));
-  extractor.setGridSize(32);
-  extractor.setBinReach(1.0);
-  extractor.setNumberOfThreads(static_cast<int>(state.range(0)));
+  HeightMapParameters parameters;
+  parameters.radius = 0.09 / std::sqrt(2.0);
+  parameters.grid_size = 32;
+  parameters.bin_reach = 1.0;
+  parameters.num_threads = static_cast<int>(state.range(0));
   for (auto _ : state) {
     PatchSet patches;
-    extractor.compute(patches);
+    extractCloudHeightMaps(points, seeds, frames, parameters, patches);
     benchmark::DoNotOptimize(patches.heights.data());
   }
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(seeds.size()));

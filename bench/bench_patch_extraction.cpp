@@ -1,10 +1,10 @@
-// Throughput of HeightMapPatchExtractor on a ~100k-face mesh (torus 224 × 224 = 100352 faces,
+// Throughput of extractMeshHeightMaps on a ~100k-face mesh (torus 224 × 224 = 100352 faces,
 // normalised to the unit cube), with the CLI's seeds and frames (apps/patch_seeds: random
 // area-uniform seeds, 12 per patch area at L = 0.03, N = 16), on 1 and 2 OpenMP threads; and on
 // the bundled bunny. Items/s in the output are patches per second.
 #include <pcl_patchdict/patches/patch_seeds.h>
 
-#include <pcl_patchdict/patches/height_map_patch_extractor.h>
+#include <pcl_patchdict/patches/height_maps.h>
 #include <pcl_patchdict/geometry/mesh_hygiene.h>
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/core/normalization.h>
@@ -49,15 +49,13 @@ void extract(benchmark::State& state, const TriangleMesh& mesh)
 {
   const int threads = static_cast<int>(state.range(0));
   const SeedsAndFrames seeds = computeSeedsAndFrames(mesh, kQuadLength, 1, 1);
-  HeightMapPatchExtractor extractor;
-  extractor.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
-  extractor.setSeeds(seeds.seeds, seeds.frames);
-  extractor.setRadius(kQuadLength / std::sqrt(2.0));
-  extractor.setGridSize(16);
-  extractor.setNumberOfThreads(threads);
+  HeightMapParameters parameters;
+  parameters.radius = kQuadLength / std::sqrt(2.0);
+  parameters.grid_size = 16;
+  parameters.num_threads = threads;
   PatchSet patches;
   for (auto _ : state) {
-    extractor.compute(patches);
+    extractMeshHeightMaps(mesh, seeds.seeds, seeds.frames, parameters, patches);
     benchmark::DoNotOptimize(patches.heights.data());
   }
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) *

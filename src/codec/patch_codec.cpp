@@ -4,7 +4,7 @@
 #include <pcl_patchdict/io/atomic_file.h>
 #include <pcl_patchdict/geometry/coarse_mesh_estimation.h>
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/patches/height_map_patch_extractor.h>
+#include <pcl_patchdict/patches/height_maps.h>
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/quads/quad_remesher.h>
@@ -160,7 +160,7 @@ void appendQuantisedCodes(const PatchCodes& codes, detail::PdcContent& c)
   * by more than coverage_tolerance × L (see detail::chooseCoverageFrames); each codes only the
   * bins the surface lacks (detail::coverageBins), quantised with the quad patches' step. */
 void addCoveragePatches(const TriangleMesh& surface, const PatchDictionary& dictionary,
-                        const PatchCodecParameters& p, HeightMapPatchExtractor& extractor, detail::PdcContent& c)
+                        const PatchCodecParameters& p, const HeightMapParameters& extraction, detail::PdcContent& c)
 {
   // The receiver's surface, at the default subdivision at most: what is missing does not depend on
   // how finely the quads are split, and a file asking for 256 splits must not cost the encoder.
@@ -183,12 +183,10 @@ void addCoveragePatches(const TriangleMesh& surface, const PatchDictionary& dict
   for (std::size_t q = 0; q < frames.size(); ++q)
     detail::coverageSeedAndRotation(frames[q], c.position_bits, seeds[q], rotations[q]);
   PatchSet sampled;
-  extractor.setSeeds(seeds, rotations);
-  extractor.compute(sampled);
+  extractMeshHeightMaps(surface, seeds, rotations, extraction, sampled);
   const std::vector<std::int64_t> offsets = seedOffsets(sampled, grid, gridScale(c.position_bits));
   applySeedOffsets(offsets, c.position_bits, seeds, rotations);
-  extractor.setSeeds(seeds, rotations);
-  extractor.compute(sampled);
+  extractMeshHeightMaps(surface, seeds, rotations, extraction, sampled);
 
   std::vector<std::size_t> useful;
   std::vector<std::vector<char>> kept_bins;
@@ -445,21 +443,18 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
   local.seconds_layout = since(t);
 
   t = Clock::now();
-  HeightMapPatchExtractor extractor;
-  extractor.setInputMesh(std::make_shared<const TriangleMesh>(surface));
-  extractor.setRadius(c.radius);
-  extractor.setGridSize(grid);
-  extractor.setNumberOfThreads(p.num_threads);
+  HeightMapParameters heights;
+  heights.radius = c.radius;
+  heights.grid_size = grid;
+  heights.num_threads = p.num_threads;
   PatchSet sampled;
   // A quad's centre lies off a curved surface (by its sagitta); patches learned around surface
   // points code best around surface points: each seed moves along Z to the surface height at the
   // grid's centre (one small integer per patch), then the patches are sampled there.
-  extractor.setSeeds(patches.seeds, patches.rotations);
-  extractor.compute(sampled);
+  extractMeshHeightMaps(surface, patches.seeds, patches.rotations, heights, sampled);
   c.offsets = seedOffsets(sampled, grid, position_scale);
   applySeedOffsets(c.offsets, c.position_bits, patches.seeds, patches.rotations);
-  extractor.setSeeds(patches.seeds, patches.rotations);
-  extractor.compute(sampled);
+  extractMeshHeightMaps(surface, patches.seeds, patches.rotations, heights, sampled);
   local.seconds_patches = since(t);
 
   t = Clock::now();
@@ -472,7 +467,7 @@ std::string PatchCodec::encode(const TriangleMesh& mesh, Report* report) const
   local.seconds_coding = since(t);
   if (!p.keep_connectivity && p.coverage_tolerance > 0.0) {
     t = Clock::now();
-    addCoveragePatches(surface, *dictionary_, p, extractor, c);
+    addCoveragePatches(surface, *dictionary_, p, heights, c);
     local.seconds_coverage = since(t);
   }
   t = Clock::now();

@@ -6,7 +6,7 @@
 
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/patches/patch_mesh_reconstruction.h>
-#include <pcl_patchdict/quads/quad_frame_estimation.h>
+#include <pcl_patchdict/quads/quad_frames.h>
 #include <pcl_patchdict/quads/quad_subdivision.h>
 
 #include <chrono>
@@ -78,15 +78,12 @@ QuadMesh rebuildQuadMesh(const PdcContent& c)
   return quads;
 }
 
-/** Seeds and frames of the patches: QuadFrameEstimation on the rebuilt quad mesh, its frames
+/** Seeds and frames of the patches: computeQuadFrames on the rebuilt quad mesh, its frames
   * rounded to single precision as the encoder's were (what version-3 files were written with). */
 void quadSeeds(const QuadMesh& quads, std::uint32_t overlap, std::vector<Eigen::Vector3d>& seeds,
                std::vector<Eigen::Matrix3d>& rotations)
 {
-  QuadFrameEstimation estimation;
-  estimation.setInputQuadMesh(std::make_shared<const QuadMesh>(quads));
-  estimation.setOverlap(static_cast<int>(overlap));
-  estimation.compute(seeds, rotations);
+  computeQuadFrames(quads, static_cast<int>(overlap), seeds, rotations);
 }
 
 /** Seeds moved along their frames' Z by the stored offsets (position-grid units). */

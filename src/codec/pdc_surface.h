@@ -42,7 +42,7 @@ void renumberByFirstUse(FaceList& faces, std::vector<Eigen::Vector3d>& vertices)
 QuadMesh rebuildQuadMesh(const PdcContent& c);
 
 /** Seeds and frames (rounded, as rotations: rows X, Y, Z) of the quad mesh's patches
-  * (QuadFrameEstimation). */
+  * (computeQuadFrames). */
 void quadSeeds(const QuadMesh& quads, std::uint32_t overlap, std::vector<Eigen::Vector3d>& seeds,
                std::vector<Eigen::Matrix3d>& rotations);
 

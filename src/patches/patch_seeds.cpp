@@ -1,7 +1,7 @@
 #include <pcl_patchdict/patches/patch_seeds.h>
 
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/patches/height_map_patch_extractor.h>
+#include <pcl_patchdict/patches/height_maps.h>
 #include <pcl_patchdict/quads/patch_layout.h>
 #include <pcl_patchdict/core/surface_sampling.h>
 #include <pcl_patchdict/core/vertex_normals.h>
@@ -77,13 +77,11 @@ SeedsAndFrames computeSeedsAndFrames(const TriangleMesh& mesh, double quad_lengt
 
 PatchSet extractMeshPatches(const TriangleMesh& mesh, const SeedsAndFrames& seeds, double quad_length, int grid_size)
 {
-  HeightMapPatchExtractor extractor;
-  extractor.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
-  extractor.setSeeds(seeds.seeds, seeds.frames);
-  extractor.setRadius(quad_length / std::sqrt(2.0));  // patch side √2·r = L, as in the paper
-  extractor.setGridSize(grid_size);
+  HeightMapParameters parameters;
+  parameters.radius = quad_length / std::sqrt(2.0);  // patch side √2·r = L, as in the paper
+  parameters.grid_size = grid_size;
   PatchSet patches;
-  extractor.compute(patches);
+  extractMeshHeightMaps(mesh, seeds.seeds, seeds.frames, parameters, patches);
   return patches;
 }
 

@@ -124,10 +124,7 @@ void reseedPatchLayout(const TriangleMesh& surface, int overlap, PatchLayout& ou
 {
   using Clock = std::chrono::steady_clock;
   const auto t = Clock::now();
-  QuadFrameEstimation frames;
-  frames.setInputQuadMesh(std::make_shared<const QuadMesh>(out.quads));
-  frames.setOverlap(overlap);
-  frames.compute(out.seeds, out.frames, &out.seed_faces);
+  computeQuadFrames(out.quads, overlap, out.seeds, out.frames, &out.seed_faces);
   out.mean_seed_shift = 0.0;
   out.coverage_seeds = 0;
   if (!surface.faces.empty()) {

@@ -5,7 +5,7 @@
 #include <pcl_patchdict/repair/patch_correction.h>
 
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/patches/height_map_patch_extractor.h>
+#include <pcl_patchdict/patches/height_maps.h>
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/quads/patch_layout.h>
 #include <pcl_patchdict/patches/patch_mesh_reconstruction.h>
@@ -31,7 +31,7 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 /** Bilinear height of an N×N patch column at frame coordinates (u, v); bin centres as in
-  * HeightMapPatchExtractor, clamped at the border bins. */
+  * extractMeshHeightMaps, clamped at the border bins. */
 double bilinearHeight(const Eigen::Ref<const Eigen::VectorXd>& heights, int n, double side, double u, double v)
 {
   const double gx = std::clamp((u + 0.5 * side) / side * n - 0.5, 0.0, static_cast<double>(n - 1));
@@ -185,16 +185,13 @@ std::vector<PatchSet> PatchCorrection::observedPatchesAtScales(const std::vector
   r.patches = layout.seeds.size();
   r.seconds_layout = secondsSince(t);
 
-  // 2. Height maps of the observed surface (the extractor shares it).
+  // 2. Height maps of the observed surface.
   t = Clock::now();
-  HeightMapPatchExtractor extractor;
+  std::shared_ptr<const TriangleMesh> surface;
   if (observed_surface_) {
-    if (observed_surface_->faces.empty())
-      extractor.setInputCloud(observed_surface_);  // a point cloud: binned heights
-    else
-      extractor.setInputMesh(observed_surface_);
+    surface = observed_surface_;
   } else if (observed_faces_.empty()) {
-    extractor.setInputMesh(estimate_);
+    surface = estimate_;
   } else {
     auto observed = std::make_shared<TriangleMesh>();
     observed->vertices = estimate.vertices;
@@ -203,23 +200,26 @@ std::vector<PatchSet> PatchCorrection::observedPatchesAtScales(const std::vector
         observed->faces.push_back(estimate.faces[f]);
     if (observed->faces.empty())
       throw Error("no face is observed: there is no surface to fit patches to");
-    extractor.setInputMesh(observed);
+    surface = observed;
   }
   if (observed_surface_ && observed_surface_->vertices.empty())
     throw Error("the observed surface is empty: there is no surface to fit patches to");
   const int grid = dictionary_ ? dictionary_->gridSize() : (p.grid_size > 0 ? p.grid_size : 16);
   r.grid_size = grid;
-  extractor.setSeeds(layout.seeds, layout.frames);
-  extractor.setGridSize(grid);
-  extractor.setBinReach(p.bin_reach);
-  extractor.setNumberOfThreads(p.num_threads);
+  HeightMapParameters heights;
+  heights.grid_size = grid;
+  heights.num_threads = p.num_threads;
+  heights.bin_reach = p.bin_reach;
   std::vector<PatchSet> sets;
   for (double scale : patch_scales) {
     if (!(scale > 0.0) || !std::isfinite(scale))
       throw Error("the patch scale must be > 0");
-    extractor.setRadius(scale * quad_length / std::sqrt(2.0));
+    heights.radius = scale * quad_length / std::sqrt(2.0);
     sets.emplace_back();
-    extractor.compute(sets.back());
+    if (surface->faces.empty())  // a point cloud: binned heights
+      extractCloudHeightMaps(surface->vertices, layout.seeds, layout.frames, heights, sets.back());
+    else
+      extractMeshHeightMaps(*surface, layout.seeds, layout.frames, heights, sets.back());
   }
   if (!sets.empty()) {
     r.patch_side = patch_scales.front() * quad_length;

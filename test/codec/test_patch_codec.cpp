@@ -1,7 +1,7 @@
 // PatchCodec (.pdc) and quad subdivision: round trips with error bounds, determinism, and rejection
 // of truncated, corrupted and mismatched data.
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/patches/height_map_patch_extractor.h>
+#include <pcl_patchdict/patches/height_maps.h>
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/core/normalization.h>
@@ -45,13 +45,11 @@ PatchSet bunnyPatches(const TriangleMesh& bunny)
   layout_parameters.quad_length = 0.08;
   PatchLayout layout;
   computePatchLayout(unit, layout_parameters, layout);
-  HeightMapPatchExtractor extractor;
-  extractor.setInputMesh(std::make_shared<const TriangleMesh>(unit));
-  extractor.setSeeds(layout.seeds, layout.frames);
-  extractor.setRadius(0.08 / std::sqrt(2.0));
-  extractor.setGridSize(16);
+  HeightMapParameters parameters;
+  parameters.radius = 0.08 / std::sqrt(2.0);
+  parameters.grid_size = 16;
   PatchSet patches;
-  extractor.compute(patches);
+  extractMeshHeightMaps(unit, layout.seeds, layout.frames, parameters, patches);
   return patches;
 }
 

@@ -23,7 +23,7 @@ using namespace pcl::patchdict;
 
 namespace {
 
-// Real height maps until the HeightMapPatchExtractor exists: 16×16 bins of side 0.06 around random
+// Real height maps, made here rather than by extractMeshHeightMaps: 16×16 bins of side 0.06 around random
 // points of the normalised bunny, in a frame whose Z is the face normal; a bin's height is the mean
 // of the dense surface samples falling in it. Only fully observed patches are kept (with 1.5M
 // samples, ~9 per bin at this size; at side 0.03 almost every patch would have empty bins).

@@ -1,5 +1,5 @@
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/patches/height_map_patch_extractor.h>
+#include <pcl_patchdict/patches/height_maps.h>
 #include <pcl_patchdict/geometry/mesh_hygiene.h>
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/geometry/metrics.h>
@@ -26,13 +26,11 @@ PatchSet extractRandom(const TriangleMesh& mesh, std::size_t count, double side,
   std::vector<Eigen::Matrix3d> frames;
   for (const auto face : seeds.face_ids)
     frames.push_back(frameFromNormal(mesh.faceNormal(static_cast<std::size_t>(face))));
-  HeightMapPatchExtractor extractor;
-  extractor.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
-  extractor.setSeeds(seeds.points, frames);
-  extractor.setRadius(side / std::sqrt(2.0));
-  extractor.setGridSize(grid);
+  HeightMapParameters parameters;
+  parameters.radius = side / std::sqrt(2.0);
+  parameters.grid_size = grid;
   PatchSet patches;
-  extractor.compute(patches);
+  extractMeshHeightMaps(mesh, seeds.points, frames, parameters, patches);
   return patches;
 }
 

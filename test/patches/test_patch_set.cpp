@@ -1,6 +1,6 @@
 // PatchSet: .pds round trip bit for bit, rejection of damaged files with one line, PNG output.
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/patches/height_map_patch_extractor.h>
+#include <pcl_patchdict/patches/height_maps.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
 #include <pcl_patchdict/patches/patch_set.h>
 #include <pcl_patchdict/eval/shapes.h>
@@ -35,13 +35,11 @@ PatchSet samplePatchSet()
                                      .transpose();
     frames.push_back(roundToSinglePrecision(rows));
   }
-  HeightMapPatchExtractor extractor;
-  extractor.setInputMesh(std::make_shared<const TriangleMesh>(relief));
-  extractor.setSeeds(seeds, frames);
-  extractor.setRadius(0.12);
-  extractor.setGridSize(12);
+  HeightMapParameters parameters;
+  parameters.radius = 0.12;
+  parameters.grid_size = 12;
   PatchSet set;
-  extractor.compute(set);
+  extractMeshHeightMaps(relief, seeds, frames, parameters, set);
   for (std::size_t p = 0; p < set.source.size(); ++p)
     set.source[p] = static_cast<std::int32_t>(p % 5) - 1;
   return set;

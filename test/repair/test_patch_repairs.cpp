@@ -5,9 +5,7 @@
 #include <pcl_patchdict/eval/shapes.h>
 #include <pcl_patchdict/geometry/coarse_mesh_estimation.h>
 #include <pcl_patchdict/geometry/hole_filling.h>
-#include <pcl_patchdict/patches/height_map_patch_extractor.h>
 #include <pcl_patchdict/patches/patch_mesh_reconstruction.h>
-#include <pcl_patchdict/quads/quad_frame_estimation.h>
 #include <pcl_patchdict/quads/quad_remesher.h>
 #include <pcl_patchdict/repair/patch_correction.h>
 #include <pcl_patchdict/repair/patch_repairs.h>
@@ -41,9 +39,6 @@ constexpr bool sharesItsInputMesh()
 static_assert(sharesItsInputMesh<HoleFilling>(), "HoleFilling must share its input");
 static_assert(sharesItsInputMesh<QuadRemesher>(), "QuadRemesher must share its input");
 static_assert(sharesItsInputMesh<CoarseMeshEstimation>(), "CoarseMeshEstimation must share its input");
-static_assert(sharesItsInputMesh<HeightMapPatchExtractor>(), "HeightMapPatchExtractor must share its input");
-static_assert(!std::is_invocable_v<decltype(&QuadFrameEstimation::setInputQuadMesh), QuadFrameEstimation&, QuadMesh>,
-              "QuadFrameEstimation must share its input");
 static_assert(!std::is_invocable_v<decltype(&PatchCorrection::setEstimate), PatchCorrection&, TriangleMesh>,
               "PatchCorrection must share its estimate");
 static_assert(!std::is_invocable_v<decltype(&PatchMeshReconstruction::setTargetMesh), PatchMeshReconstruction&,

@@ -59,7 +59,7 @@ struct PatchCodecParameters {
   *
   * Encoding: unit-cube normalisation; coarse shape (Laplacian smoothing) and field-aligned quad
   * mesh at L (QuadRemesher); quad vertices projected onto the input and quantised; frames and seeds
-  * from the *quantised* quad mesh (QuadFrameEstimation, vertex normals from the faces), exactly as
+  * from the *quantised* quad mesh (computeQuadFrames, vertex normals from the faces), exactly as
   * the decoder will derive them, so frames are never stored; exact height maps of the input at
   * those seeds; masked OMP with `coefficients` atoms; coefficients uniformly quantised. Then the
   * encoder decodes what it wrote: parts of the input the result misses (no quads reach them)

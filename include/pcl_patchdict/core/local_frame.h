@@ -12,7 +12,7 @@ namespace patchdict {
 /** Every entry rounded to the nearest float and back to double — bit for bit what a round trip
   * through pcl::ReferenceFrame's float[3] axes gives (fromReferenceFrame(toReferenceFrame(frame))).
   *
-  * Frames are rounded once where they are made (QuadFrameEstimation::compute, the layout's
+  * Frames are rounded once where they are made (computeQuadFrames, the layout's
   * coverage seeds, frameFromNormal, the codec's coverage frames), where they used to pass through
   * pcl::ReferenceFrame: the height maps are measured in the rounded frame, so outputs stay the
   * bytes they were, and version-3 .pdc files, whose decoder re-derives the same frames, decode

@@ -20,7 +20,7 @@ Eigen::Matrix3d fromReferenceFrame(const pcl::ReferenceFrame& frame);
 /** A list of frames (e.g. PatchLayout::frames) as a cloud of pcl::ReferenceFrame (width = count,
   * height 1). */
 pcl::PointCloud<pcl::ReferenceFrame> toReferenceFrames(const std::vector<Eigen::Matrix3d>& frames);
-/** A cloud of pcl::ReferenceFrame as the core's frames, e.g. for HeightMapPatchExtractor::setSeeds. */
+/** A cloud of pcl::ReferenceFrame as the core's frames, e.g. for extractMeshHeightMaps. */
 std::vector<Eigen::Matrix3d> fromReferenceFrames(const pcl::PointCloud<pcl::ReferenceFrame>& frames);
 
 }  // namespace patchdict

@@ -3,7 +3,7 @@
 #pragma once
 
 #include <pcl_patchdict/geometry/coarse_mesh_estimation.h>
-#include <pcl_patchdict/quads/quad_frame_estimation.h>
+#include <pcl_patchdict/quads/quad_frames.h>
 #include <pcl_patchdict/quads/quad_remesher.h>
 
 #include <cstdint>
@@ -40,7 +40,7 @@ struct PatchLayout {
 
 /** \brief The three stages in a row: CoarseMeshEstimation (a mesh is smoothed; a surface without
   * faces is treated as a point cloud: Poisson, trimming, smoothing), QuadRemesher on the coarse
-  * shape, QuadFrameEstimation on the quads; for a mesh input, the seeds are then moved to their
+  * shape, computeQuadFrames on the quads; for a mesh input, the seeds are then moved to their
   * closest points on the input (frames unchanged), so patches are centred on the surface they
   * sample rather than on the smoothed one, and input vertices no patch reaches (open boundaries,
   * the lattice's rare holes) get seeds of their own (see PatchLayout::coverage_seeds). Throws Error from any stage, and when the quad mesh

@@ -40,7 +40,7 @@ struct PatchCorrectionParameters {
   /// N, bins per side: 0 = the dictionary's (16 for a self-similar one); another N is an error.
   int grid_size = 0;
   /// Point-cloud observed surfaces: a bin's height from the points within this many bins of its
-  /// centre (HeightMapPatchExtractor::setBinReach; 0: the points in the bin, the paper's rule).
+  /// centre (HeightMapParameters::bin_reach; 0: the points in the bin, the paper's rule).
   double bin_reach = 0.0;
   int self_similar_atoms = 100;  ///< self-similar dictionary (none given): atoms,
   int self_similar_iterations = 15;     ///< K-SVD iterations,

@@ -1,8 +1,9 @@
+// Height maps: exact heights rasterised from a mesh's triangles, or binned heights of a cloud's
+// points, at given seeds and frames.
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/patches/height_map_patch_extractor.h>
+#include <pcl_patchdict/patches/height_maps.h>
 
 #include "pcl/point_conversion.h"
-
 
 #include <pcl/kdtree/kdtree_flann.h>
 
@@ -85,98 +86,62 @@ void splat(const Eigen::Vector3d& local, const Grid& grid, int n, double reach, 
     }
 }
 
-}  // namespace
+const std::string kWhat = "height-map patches: ";
 
-void HeightMapPatchExtractor::setSeeds(const std::vector<Eigen::Vector3d>& seeds,
-                                       const std::vector<Eigen::Matrix3d>& frames)
+void checkParameters(const std::vector<Eigen::Vector3d>& seeds, const std::vector<Eigen::Matrix3d>& frames,
+                     const HeightMapParameters& parameters)
 {
-  seeds_ = seeds;
-  rotations_ = frames;
-}
-
-void HeightMapPatchExtractor::setInputMesh(const std::shared_ptr<const TriangleMesh>& mesh)
-{
-  surface_ = mesh;
-  mode_ = Mode::Mesh;
-}
-
-void HeightMapPatchExtractor::setInputCloud(const std::shared_ptr<const TriangleMesh>& cloud_as_vertices)
-{
-  surface_ = cloud_as_vertices;
-  mode_ = Mode::Cloud;
-}
-
-void HeightMapPatchExtractor::checkInput() const
-{
-  const std::string what = "height-map patches: ";
-  if (mode_ == Mode::None)
-    throw Error(what + "no input surface (call setInputMesh or setInputCloud)");
-  if (!(radius_ > 0.0) || !std::isfinite(radius_))
-    throw Error(what + "the radius must be positive and finite");
-  if (grid_size_ < 2 || grid_size_ > kMaxGrid)
-    throw Error(what + "the grid size must be in [2, " + std::to_string(kMaxGrid) + "], not " +
-                std::to_string(grid_size_));
-  if (rotations_.size() != seeds_.size())
-    throw Error(what + std::to_string(seeds_.size()) + " seeds but " + std::to_string(rotations_.size()) + " frames");
-  for (std::size_t p = 0; p < seeds_.size(); ++p) {
-    if (!seeds_[p].allFinite() || !rotations_[p].allFinite())
-      throw Error(what + "seed or frame " + std::to_string(p) + " is not finite");
-    // Frames are rounded to float where they are made (or come from pcl::ReferenceFrame): orthonormal
-    // to float precision is all we can ask; a left-handed frame would mirror its patch and confuse
-    // the dictionary, so it is a bug upstream.
-    const double deviation = (rotations_[p] * rotations_[p].transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-    if (deviation > 1e-4)
-      throw Error(what + "frame " + std::to_string(p) + " is not orthonormal (deviation " +
-                  std::to_string(deviation) + ")");
-    if (rotations_[p].determinant() < 0.0)
-      throw Error(what + "frame " + std::to_string(p) + " is left-handed");
+  if (!(parameters.radius > 0.0) || !std::isfinite(parameters.radius))
+    throw Error(kWhat + "the radius must be positive and finite");
+  if (parameters.grid_size < 2 || parameters.grid_size > kMaxGrid)
+    throw Error(kWhat + "the grid size must be in [2, " + std::to_string(kMaxGrid) + "], not " +
+                std::to_string(parameters.grid_size));
+  if (frames.size() != seeds.size())
+    throw Error(kWhat + std::to_string(seeds.size()) + " seeds but " + std::to_string(frames.size()) + " frames");
+  for (std::size_t p = 0; p < seeds.size(); ++p) {
+    if (!seeds[p].allFinite())
+      throw Error(kWhat + "seed or frame " + std::to_string(p) + " is not finite");
+    checkHeightMapFrame(frames[p], p);
   }
-  if (!surface_ || surface_->vertices.empty())
-    throw Error(what + "the input surface has no points");
-  for (const auto& v : surface_->vertices)
+}
+
+void checkPoints(const std::vector<Eigen::Vector3d>& points)
+{
+  if (points.empty())
+    throw Error(kWhat + "the input surface has no points");
+  for (const auto& v : points)
     if (!v.allFinite())
-      throw Error(what + "the input surface has non-finite coordinates");
-  if (mode_ == Mode::Mesh) {
-    if (surface_->faces.empty())
-      throw Error(what + "the input mesh has no faces (use setInputCloud for a point cloud)");
-    const auto count = static_cast<std::int32_t>(surface_->vertices.size());
-    for (const auto& face : surface_->faces)
-      for (const auto index : face)
-        if (index < 0 || index >= count)
-          throw Error(what + "a face refers to vertex " + std::to_string(index) + " of " + std::to_string(count));
-  }
+      throw Error(kWhat + "the input surface has non-finite coordinates");
 }
 
-void HeightMapPatchExtractor::compute(PatchSet& out) const
+/** One patch per seed, every bin unobserved at height 0. */
+PatchSet unobservedPatches(const std::vector<Eigen::Vector3d>& seeds, const std::vector<Eigen::Matrix3d>& frames,
+                           const HeightMapParameters& parameters)
 {
-  checkInput();
-  const auto patches = static_cast<Eigen::Index>(seeds_.size());
-  const Eigen::Index bins = static_cast<Eigen::Index>(grid_size_) * grid_size_;
+  const auto patches = static_cast<Eigen::Index>(seeds.size());
+  const Eigen::Index bins = static_cast<Eigen::Index>(parameters.grid_size) * parameters.grid_size;
   PatchSet result;
-  result.grid_size = grid_size_;
-  result.radius = radius_;
-  result.seeds = seeds_;
-  result.rotations = rotations_;
+  result.grid_size = parameters.grid_size;
+  result.radius = parameters.radius;
+  result.seeds = seeds;
+  result.rotations = frames;
   result.heights = Eigen::MatrixXd::Zero(bins, patches);
   result.observed = ObservationMask::Constant(bins, patches, false);
-  result.source.assign(seeds_.size(), source_index_);
-  if (patches > 0) {
-    if (mode_ == Mode::Mesh)
-      computeMesh(result);
-    else
-      computeCloud(result);
-  }
-  out = std::move(result);
+  result.source.assign(seeds.size(), parameters.source_index);
+  return result;
 }
 
 // Exact heights: rasterise, in the seed's frame, the XY projections of the triangles that can reach
 // the patch, sampling the barycentric interpolant at the bin centres (a ray along Z per bin centre,
 // done triangle by triangle).
-void HeightMapPatchExtractor::computeMesh(PatchSet& out) const
+void meshHeights(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& seeds,
+                 const std::vector<Eigen::Matrix3d>& frames, const HeightMapParameters& parameters, PatchSet& out)
 {
-  const Grid grid = makeGrid(grid_size_, radius_);
-  const auto& vertices = surface_->vertices;
-  const auto& faces = surface_->faces;
+  const double radius = parameters.radius;
+  const int grid_size = parameters.grid_size;
+  const Grid grid = makeGrid(grid_size, radius);
+  const auto& vertices = mesh.vertices;
+  const auto& faces = mesh.faces;
 
   pcl::PointCloud<pcl::PointXYZ>::Ptr centroids(new pcl::PointCloud<pcl::PointXYZ>);
   centroids->resize(faces.size());
@@ -195,20 +160,20 @@ void HeightMapPatchExtractor::computeMesh(PatchSet& out) const
   tree.setInputCloud(centroids);
   // A surface point counted by the patch is within r of the seed (the r-neighbourhood of section
   // 3.1), so the triangle holding it has its centroid within r + reach.
-  const double query_radius = floatSafeRadius(radius_ + reach, coordinateScale(vertices, seeds_));
-  const double radius_squared = radius_ * radius_;
-  const int n = grid_size_;
+  const double query_radius = floatSafeRadius(radius + reach, coordinateScale(vertices, seeds));
+  const double radius_squared = radius * radius;
+  const int n = grid_size;
 
-#pragma omp parallel num_threads(threadCount(threads_))
+#pragma omp parallel num_threads(threadCount(parameters.num_threads))
   {
     std::vector<int> neighbours;
     std::vector<float> distances;
     std::vector<double> best_abs(static_cast<std::size_t>(n) * n);
     std::vector<int> best_face(static_cast<std::size_t>(n) * n);
 #pragma omp for schedule(dynamic, 8)
-    for (std::ptrdiff_t p = 0; p < static_cast<std::ptrdiff_t>(seeds_.size()); ++p) {
-      const Eigen::Vector3d& seed = seeds_[static_cast<std::size_t>(p)];
-      const Eigen::Matrix3d& rotation = rotations_[static_cast<std::size_t>(p)];
+    for (std::ptrdiff_t p = 0; p < static_cast<std::ptrdiff_t>(seeds.size()); ++p) {
+      const Eigen::Vector3d& seed = seeds[static_cast<std::size_t>(p)];
+      const Eigen::Matrix3d& rotation = frames[static_cast<std::size_t>(p)];
       // The (unsorted) search order does not matter: a bin keeps the candidate nearest the plane,
       // and of equal ones the lowest face index (rule below).
       tree.radiusSearch(detail::toPointXYZ(seed), query_radius, neighbours, distances, 0);
@@ -275,26 +240,29 @@ void HeightMapPatchExtractor::computeMesh(PatchSet& out) const
 // a locally linear surface sampled evenly it is the height at the samples' centroid, and it varies
 // continuously with the data; outliers and noise are the dictionary's job (sparse approximation),
 // not the sampler's.
-void HeightMapPatchExtractor::computeCloud(PatchSet& out) const
+void cloudHeights(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& seeds,
+                  const std::vector<Eigen::Matrix3d>& frames, const HeightMapParameters& parameters,
+                  PatchSet& out)
 {
-  const Grid grid = makeGrid(grid_size_, radius_);
-  const auto& points = surface_->vertices;
+  const double radius = parameters.radius;
+  const int grid_size = parameters.grid_size;
+  const Grid grid = makeGrid(grid_size, radius);
   pcl::KdTreeFLANN<pcl::PointXYZ> tree(false);
   tree.setInputCloud(detail::toCloudXYZ(points));
-  const double query_radius = floatSafeRadius(radius_, coordinateScale(points, seeds_));
-  const double radius_squared = radius_ * radius_;
-  const int n = grid_size_;
+  const double query_radius = floatSafeRadius(radius, coordinateScale(points, seeds));
+  const double radius_squared = radius * radius;
+  const int n = grid_size;
 
-#pragma omp parallel num_threads(threadCount(threads_))
+#pragma omp parallel num_threads(threadCount(parameters.num_threads))
   {
     std::vector<int> neighbours;
     std::vector<float> distances;
     std::vector<double> sums(static_cast<std::size_t>(n) * n);
     std::vector<double> counts(static_cast<std::size_t>(n) * n);
 #pragma omp for schedule(dynamic, 8)
-    for (std::ptrdiff_t p = 0; p < static_cast<std::ptrdiff_t>(seeds_.size()); ++p) {
-      const Eigen::Vector3d& seed = seeds_[static_cast<std::size_t>(p)];
-      const Eigen::Matrix3d& rotation = rotations_[static_cast<std::size_t>(p)];
+    for (std::ptrdiff_t p = 0; p < static_cast<std::ptrdiff_t>(seeds.size()); ++p) {
+      const Eigen::Vector3d& seed = seeds[static_cast<std::size_t>(p)];
+      const Eigen::Matrix3d& rotation = frames[static_cast<std::size_t>(p)];
       tree.radiusSearch(detail::toPointXYZ(seed), query_radius, neighbours, distances);
       // Summation in index order: bit-identical means whatever FLANN's order and the thread count.
       std::sort(neighbours.begin(), neighbours.end());
@@ -304,8 +272,8 @@ void HeightMapPatchExtractor::computeCloud(PatchSet& out) const
         const Eigen::Vector3d local = rotation * (points[static_cast<std::size_t>(index)] - seed);
         if (local.squaredNorm() > radius_squared)
           continue;
-        if (bin_reach_ > 0.0) {
-          splat(local, grid, n, bin_reach_, sums, counts);
+        if (parameters.bin_reach > 0.0) {
+          splat(local, grid, n, parameters.bin_reach, sums, counts);
           continue;
         }
         const double u = std::floor((local.x() + grid.half) / grid.bin);
@@ -323,6 +291,54 @@ void HeightMapPatchExtractor::computeCloud(PatchSet& out) const
         }
     }
   }
+}
+
+}  // namespace
+
+void checkHeightMapFrame(const Eigen::Matrix3d& frame, std::size_t index)
+{
+  if (!frame.allFinite())
+    throw Error(kWhat + "seed or frame " + std::to_string(index) + " is not finite");
+  // Frames are rounded to float where they are made (or come from pcl::ReferenceFrame): orthonormal
+  // to float precision is all we can ask; a left-handed frame would mirror its patch and confuse
+  // the dictionary, so it is a bug upstream.
+  const double deviation = (frame * frame.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  if (deviation > 1e-4)
+    throw Error(kWhat + "frame " + std::to_string(index) + " is not orthonormal (deviation " +
+                std::to_string(deviation) + ")");
+  if (frame.determinant() < 0.0)
+    throw Error(kWhat + "frame " + std::to_string(index) + " is left-handed");
+}
+
+void extractMeshHeightMaps(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& seeds,
+                           const std::vector<Eigen::Matrix3d>& frames, const HeightMapParameters& parameters,
+                           PatchSet& out)
+{
+  checkParameters(seeds, frames, parameters);
+  checkPoints(mesh.vertices);
+  if (mesh.faces.empty())
+    throw Error(kWhat + "the input mesh has no faces (use extractCloudHeightMaps for a point cloud)");
+  const auto count = static_cast<std::int32_t>(mesh.vertices.size());
+  for (const auto& face : mesh.faces)
+    for (const auto index : face)
+      if (index < 0 || index >= count)
+        throw Error(kWhat + "a face refers to vertex " + std::to_string(index) + " of " + std::to_string(count));
+  PatchSet result = unobservedPatches(seeds, frames, parameters);
+  if (!seeds.empty())
+    meshHeights(mesh, seeds, frames, parameters, result);
+  out = std::move(result);
+}
+
+void extractCloudHeightMaps(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& seeds,
+                            const std::vector<Eigen::Matrix3d>& frames, const HeightMapParameters& parameters,
+                            PatchSet& out)
+{
+  checkParameters(seeds, frames, parameters);
+  checkPoints(points);
+  PatchSet result = unobservedPatches(seeds, frames, parameters);
+  if (!seeds.empty())
+    cloudHeights(points, seeds, frames, parameters, result);
+  out = std::move(result);
 }
 
 Eigen::Matrix3d frameFromNormal(const Eigen::Vector3d& normal)

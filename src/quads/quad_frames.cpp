@@ -1,6 +1,6 @@
-// QuadFrameEstimation: per-face frames made consistent by breadth-first traversal (section 3.3 of
-// Sarkar et al. 2017), seeds at face centres and overlap offsets.
-#include <pcl_patchdict/quads/quad_frame_estimation.h>
+// Quad frames: per-face frames made consistent by breadth-first traversal (section 3.3 of Sarkar
+// et al. 2017), seeds at face centres and overlap offsets.
+#include <pcl_patchdict/quads/quad_frames.h>
 
 #include <pcl_patchdict/core/error.h>
 
@@ -231,11 +231,8 @@ void shortenSeams(const std::vector<std::vector<std::int32_t>>& adjacent, FaceFr
 
 }  // namespace
 
-std::vector<Eigen::Matrix3d> QuadFrameEstimation::computeFaceFrames() const
+std::vector<Eigen::Matrix3d> computeQuadFaceFrames(const QuadMesh& mesh)
 {
-  if (!input_)
-    throw Error("quad frames: no input quad mesh");
-  const QuadMesh& mesh = *input_;
   checkQuadMesh(mesh);
   FaceFrames state(mesh);
   const std::vector<std::vector<std::int32_t>> adjacent = faceAdjacency(mesh);
@@ -244,13 +241,12 @@ std::vector<Eigen::Matrix3d> QuadFrameEstimation::computeFaceFrames() const
   return std::move(state.frames);
 }
 
-void QuadFrameEstimation::compute(std::vector<Eigen::Vector3d>& seeds, std::vector<Eigen::Matrix3d>& frames,
-                                  std::vector<std::int32_t>* seed_faces) const
+void computeQuadFrames(const QuadMesh& mesh, int overlap, std::vector<Eigen::Vector3d>& seeds,
+                       std::vector<Eigen::Matrix3d>& frames, std::vector<std::int32_t>* seed_faces)
 {
-  if (overlap_ < 0 || overlap_ > 16)
-    throw Error("quad frames: the overlap level must be in [0, 16], got " + std::to_string(overlap_));
-  const std::vector<Eigen::Matrix3d> face_frames = computeFaceFrames();
-  const QuadMesh& mesh = *input_;
+  if (overlap < 0 || overlap > 16)
+    throw Error("quad frames: the overlap level must be in [0, 16], got " + std::to_string(overlap));
+  const std::vector<Eigen::Matrix3d> face_frames = computeQuadFaceFrames(mesh);
   seeds.clear();
   frames.clear();
   if (seed_faces)
@@ -270,8 +266,8 @@ void QuadFrameEstimation::compute(std::vector<Eigen::Vector3d>& seeds, std::vect
         seed_faces->push_back(static_cast<std::int32_t>(f));
     };
     emit(centre);
-    for (int j = 1; j <= overlap_; ++j) {
-      const double t = 0.5 * j / (overlap_ + 1.0);
+    for (int j = 1; j <= overlap; ++j) {
+      const double t = 0.5 * j / (overlap + 1.0);
       if (face.size() == 4) {
         // Bilinear patch p(u, v) = (1−u)(1−v)·p0 + u(1−v)·p1 + u·v·p2 + (1−u)·v·p3.
         const Eigen::Vector3d &p0 = mesh.vertices[face[0]], &p1 = mesh.vertices[face[1]],

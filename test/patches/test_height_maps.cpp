@@ -1,7 +1,7 @@
-// Known answers for HeightMapPatchExtractor: planes (level, tilted, at an edge, folded), the
+// Known answers for extractMeshHeightMaps and extractCloudHeightMaps: planes (level, tilted, at an edge, folded), the
 // sinusoidal relief and a sphere in mesh mode; bin-centred grids in cloud mode; determinism; errors.
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/patches/height_map_patch_extractor.h>
+#include <pcl_patchdict/patches/height_maps.h>
 #include <pcl_patchdict/eval/shapes.h>
 
 #include <gtest/gtest.h>
@@ -43,28 +43,16 @@ double binCentre(int index, int grid, double radius)
 PatchSet extractMesh(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& seeds,
                      const std::vector<Eigen::Matrix3d>& frames, double radius, int grid = 16, int threads = 0)
 {
-  HeightMapPatchExtractor extractor;
-  extractor.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
-  extractor.setSeeds(seeds, frames);
-  extractor.setRadius(radius);
-  extractor.setGridSize(grid);
-  extractor.setNumberOfThreads(threads);
   PatchSet out;
-  extractor.compute(out);
+  extractMeshHeightMaps(mesh, seeds, frames, {radius, grid, threads}, out);
   return out;
 }
 
 PatchSet extractCloud(const TriangleMesh& cloud, const std::vector<Eigen::Vector3d>& seeds,
                       const std::vector<Eigen::Matrix3d>& frames, double radius, int grid = 16, int threads = 0)
 {
-  HeightMapPatchExtractor extractor;
-  extractor.setInputCloud(std::make_shared<const TriangleMesh>(cloud));
-  extractor.setSeeds(seeds, frames);
-  extractor.setRadius(radius);
-  extractor.setGridSize(grid);
-  extractor.setNumberOfThreads(threads);
   PatchSet out;
-  extractor.compute(out);
+  extractCloudHeightMaps(cloud.vertices, seeds, frames, {radius, grid, threads}, out);
   return out;
 }
 
@@ -76,7 +64,7 @@ bool identical(const PatchSet& a, const PatchSet& b)
 
 }  // namespace
 
-TEST(HeightMapPatchExtractorMesh, LevelPlaneIdentityFrameIsZeroAndFullyObserved)
+TEST(HeightMapsMesh, LevelPlaneIdentityFrameIsZeroAndFullyObserved)
 {
   const auto plane = makePlaneGrid(20, 20);
   const PatchSet set = extractMesh(plane, {Eigen::Vector3d(0.5, 0.5, 0.0), Eigen::Vector3d(0.33, 0.61, 0.0)},
@@ -91,7 +79,7 @@ TEST(HeightMapPatchExtractorMesh, LevelPlaneIdentityFrameIsZeroAndFullyObserved)
   EXPECT_EQ(set.source, std::vector<std::int32_t>({0, 0}));
 }
 
-TEST(HeightMapPatchExtractorMesh, RampFixesBinOrderColumnAlongXRowAlongY)
+TEST(HeightMapsMesh, RampFixesBinOrderColumnAlongXRowAlongY)
 {
   // z = 0.5·x + 0.25·y: the height of bin (i, j) at row j·N + i is 0.5·x_i + 0.25·y_j.
   auto ramp = makePlaneGrid(10, 10);
@@ -108,7 +96,7 @@ TEST(HeightMapPatchExtractorMesh, RampFixesBinOrderColumnAlongXRowAlongY)
                   1e-14);
 }
 
-TEST(HeightMapPatchExtractorMesh, TiltedFrameGivesClosedFormSlope)
+TEST(HeightMapsMesh, TiltedFrameGivesClosedFormSlope)
 {
   // Frame rotated about X by θ: rows x = (1,0,0), y = (0,c,s), z = (0,−s,c). A world point (X, Y, 0)
   // relative to the seed has local y = c·Y, z = −s·Y, so the height at bin centre y is −y·s/c
@@ -131,7 +119,7 @@ TEST(HeightMapPatchExtractorMesh, TiltedFrameGivesClosedFormSlope)
     }
 }
 
-TEST(HeightMapPatchExtractorMesh, SinusoidalReliefMatchesInterpolantAndClosedForm)
+TEST(HeightMapsMesh, SinusoidalReliefMatchesInterpolantAndClosedForm)
 {
   const int resolution = 200;
   const double amplitude = 0.01, period = 0.25, radius = 0.1;
@@ -173,7 +161,7 @@ TEST(HeightMapPatchExtractorMesh, SinusoidalReliefMatchesInterpolantAndClosedFor
   RecordProperty("worst_interpolation_error", std::to_string(worst));
 }
 
-TEST(HeightMapPatchExtractorMesh, SphereHeightsWithinTessellationError)
+TEST(HeightMapsMesh, SphereHeightsWithinTessellationError)
 {
   const double sphere_radius = 1.0, radius = 0.3;
   const int grid = 16;
@@ -215,7 +203,7 @@ TEST(HeightMapPatchExtractorMesh, SphereHeightsWithinTessellationError)
   }
 }
 
-TEST(HeightMapPatchExtractorMesh, SeedAtPlaneEdgeObservesOnlyTheBinsOverTheMesh)
+TEST(HeightMapsMesh, SeedAtPlaneEdgeObservesOnlyTheBinsOverTheMesh)
 {
   const auto plane = makePlaneGrid(20, 20);
   const int grid = 16;
@@ -233,7 +221,7 @@ TEST(HeightMapPatchExtractorMesh, SeedAtPlaneEdgeObservesOnlyTheBinsOverTheMesh)
   EXPECT_DOUBLE_EQ(set.observedFraction(), (128.0 + 64.0) / 512.0);
 }
 
-TEST(HeightMapPatchExtractorMesh, FoldKeepsTheSheetClosestToThePatchPlane)
+TEST(HeightMapsMesh, FoldKeepsTheSheetClosestToThePatchPlane)
 {
   // Two parallel sheets, z = 0 and z = 0.05; a seed at z = 0.04 sees −0.04 and +0.01: keeps +0.01.
   auto lower = makePlaneGrid(10, 10);
@@ -249,7 +237,7 @@ TEST(HeightMapPatchExtractorMesh, FoldKeepsTheSheetClosestToThePatchPlane)
     EXPECT_NEAR(set.heights(k, 0), 0.01, 1e-15);
 }
 
-TEST(HeightMapPatchExtractorMesh, SurfaceOutsideTheRadiusIsUnobserved)
+TEST(HeightMapsMesh, SurfaceOutsideTheRadiusIsUnobserved)
 {
   // A steep ramp z = 2·x: bin centre (x, y) lies at distance √(5x² + y²); beyond r it is not in the
   // r-neighbourhood of section 3.1 and stays unobserved.
@@ -271,7 +259,7 @@ TEST(HeightMapPatchExtractorMesh, SurfaceOutsideTheRadiusIsUnobserved)
   EXPECT_LT(expected, grid * grid);
 }
 
-TEST(HeightMapPatchExtractorCloud, PointsAtBinCentresFillEveryBin)
+TEST(HeightMapsCloud, PointsAtBinCentresFillEveryBin)
 {
   const int grid = 16;
   const double radius = 0.1;
@@ -295,7 +283,7 @@ TEST(HeightMapPatchExtractorCloud, PointsAtBinCentresFillEveryBin)
       EXPECT_EQ(quarter.observed(j * grid + i, 0), i % 2 == 0 && j % 2 == 0);
 }
 
-TEST(HeightMapPatchExtractorCloud, BinValueIsTheMeanHeightOfItsPoints)
+TEST(HeightMapsCloud, BinValueIsTheMeanHeightOfItsPoints)
 {
   // 3×3 points per bin, symmetric about the centre, on z = 0.05·x: the mean is the centre's height.
   const int grid = 8;
@@ -316,7 +304,7 @@ TEST(HeightMapPatchExtractorCloud, BinValueIsTheMeanHeightOfItsPoints)
       EXPECT_NEAR(set.heights(j * grid + i, 0), 0.05 * binCentre(i, grid, radius), 1e-15);
 }
 
-TEST(HeightMapPatchExtractorDeterminism, SameResultTwiceAndForAnyThreadCount)
+TEST(HeightMapsDeterminism, SameResultTwiceAndForAnyThreadCount)
 {
   const auto relief = makeSinusoidalRelief(120, 120, 0.02, 0.3);
   std::mt19937_64 random(7);
@@ -346,66 +334,46 @@ TEST(HeightMapPatchExtractorDeterminism, SameResultTwiceAndForAnyThreadCount)
   EXPECT_GT(cloud_one.observedFraction(), 0.0);
 }
 
-TEST(HeightMapPatchExtractorErrors, BadInputIsRejectedWithOneLine)
+TEST(HeightMapErrors, BadInputIsRejectedWithOneLine)
 {
   const auto plane = makePlaneGrid(4, 4);
   const std::vector<Eigen::Vector3d> seeds{Eigen::Vector3d(0.5, 0.5, 0.0)};
-  auto expectError = [](HeightMapPatchExtractor& extractor, const char* what) {
+  // Each case: the mesh, seeds, frames and parameters given to extractMeshHeightMaps.
+  const auto expectError = [](const TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& seeds_given,
+                              const std::vector<Eigen::Matrix3d>& frames, const HeightMapParameters& parameters,
+                              const char* what) {
     PatchSet out;
     try {
-      extractor.compute(out);
+      extractMeshHeightMaps(mesh, seeds_given, frames, parameters, out);
       ADD_FAILURE() << "no error for " << what;
     } catch (const Error& error) {
       EXPECT_EQ(std::string(error.what()).find('\n'), std::string::npos) << error.what();
     }
   };
-  {
-    HeightMapPatchExtractor extractor;  // no input at all
-    extractor.setSeeds(seeds, identityFrames(1));
-    extractor.setRadius(0.1);
-    expectError(extractor, "no input");
-  }
-  HeightMapPatchExtractor extractor;
-  extractor.setInputMesh(std::make_shared<const TriangleMesh>(plane));
-  extractor.setRadius(0.1);
-  extractor.setSeeds(seeds, identityFrames(2));
-  expectError(extractor, "frames count");
-  extractor.setSeeds(seeds, identityFrames(1));
-  extractor.setRadius(0.0);
-  expectError(extractor, "zero radius");
-  extractor.setRadius(-1.0);
-  expectError(extractor, "negative radius");
-  extractor.setRadius(std::nan(""));
-  expectError(extractor, "NaN radius");
-  extractor.setRadius(0.1);
-  extractor.setGridSize(1);
-  expectError(extractor, "grid 1");
-  extractor.setGridSize(16);
+  const HeightMapParameters good{0.1};
+  expectError(TriangleMesh(), seeds, identityFrames(1), good, "no surface at all");
+  expectError(plane, seeds, identityFrames(2), good, "frames count");
+  expectError(plane, seeds, identityFrames(1), {0.0}, "zero radius");
+  expectError(plane, seeds, identityFrames(1), {-1.0}, "negative radius");
+  expectError(plane, seeds, identityFrames(1), {std::nan("")}, "NaN radius");
+  expectError(plane, seeds, identityFrames(1), {0.1, 1}, "grid 1");
   std::vector<Eigen::Matrix3d> skewed = identityFrames(1);
   skewed[0](0, 1) = 0.5;
-  extractor.setSeeds(seeds, skewed);
-  expectError(extractor, "non-orthonormal frame");
+  expectError(plane, seeds, skewed, good, "non-orthonormal frame");
   std::vector<Eigen::Matrix3d> mirrored = identityFrames(1);
   mirrored[0](2, 2) = -1.0;
-  extractor.setSeeds(seeds, mirrored);
-  expectError(extractor, "left-handed frame");
-  extractor.setSeeds({Eigen::Vector3d(std::nan(""), 0, 0)}, identityFrames(1));
-  expectError(extractor, "NaN seed");
-  extractor.setSeeds(seeds, identityFrames(1));
+  expectError(plane, seeds, mirrored, good, "left-handed frame");
+  expectError(plane, {Eigen::Vector3d(std::nan(""), 0, 0)}, identityFrames(1), good, "NaN seed");
   TriangleMesh bare = plane;
   bare.faces.clear();
-  extractor.setInputMesh(std::make_shared<const TriangleMesh>(bare));
-  expectError(extractor, "mesh without faces");
+  expectError(bare, seeds, identityFrames(1), good, "mesh without faces");
   TriangleMesh broken = plane;
   broken.faces[0][1] = 1000;
-  extractor.setInputMesh(std::make_shared<const TriangleMesh>(broken));
-  expectError(extractor, "face index out of range");
-  extractor.setInputCloud(std::make_shared<const TriangleMesh>(TriangleMesh()));
-  expectError(extractor, "empty cloud");
+  expectError(broken, seeds, identityFrames(1), good, "face index out of range");
+  PatchSet out;
+  EXPECT_THROW(extractCloudHeightMaps({}, seeds, identityFrames(1), good, out), Error);  // empty cloud
 
   // And the valid configuration works.
-  extractor.setInputMesh(std::make_shared<const TriangleMesh>(plane));
-  PatchSet out;
-  EXPECT_NO_THROW(extractor.compute(out));
+  EXPECT_NO_THROW(extractMeshHeightMaps(plane, seeds, identityFrames(1), good, out));
   EXPECT_EQ(out.numPatches(), 1u);
 }

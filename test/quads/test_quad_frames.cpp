@@ -1,4 +1,4 @@
-// QuadFrameEstimation: orthonormal frames, Z along the surface normal, X consistent across quads,
+// computeQuadFrames: orthonormal frames, Z along the surface normal, X consistent across quads,
 // seeds and overlap offsets where the paper puts them.
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/geometry/mesh_hygiene.h>
@@ -8,7 +8,7 @@
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/core/vertex_normals.h>
 #include <pcl_patchdict/quads/patch_layout.h>
-#include <pcl_patchdict/quads/quad_frame_estimation.h>
+#include <pcl_patchdict/quads/quad_frames.h>
 #include <pcl_patchdict/quads/quad_remesher.h>
 #include <pcl_patchdict/eval/shapes.h>
 
@@ -46,7 +46,7 @@ double consistentPairs(const QuadMesh& mesh, const std::vector<Eigen::Matrix3d>&
 
 }  // namespace
 
-TEST(QuadFrameEstimation, APlaneGridGetsOneFrameEverywhere)
+TEST(QuadFrames, APlaneGridGetsOneFrameEverywhere)
 {
   QuadMesh grid;
   const int n = 6;
@@ -63,13 +63,10 @@ TEST(QuadFrameEstimation, APlaneGridGetsOneFrameEverywhere)
       std::rotate(face.begin(), face.begin() + (i + 2 * j) % 4, face.end());
       grid.faces.push_back(face);
     }
-  QuadFrameEstimation estimation;
-  estimation.setInputQuadMesh(std::make_shared<const QuadMesh>(grid));
-  estimation.setOverlap(1);
   std::vector<Eigen::Vector3d> seeds;
   std::vector<Eigen::Matrix3d> frames;
   std::vector<std::int32_t> seed_faces;
-  estimation.compute(seeds, frames, &seed_faces);
+  computeQuadFrames(grid, 1, seeds, frames, &seed_faces);
   ASSERT_EQ(seeds.size(), 5u * n * n);
   ASSERT_EQ(frames.size(), seeds.size());
   const Eigen::Matrix3d first = frames[0];
@@ -86,15 +83,13 @@ TEST(QuadFrameEstimation, APlaneGridGetsOneFrameEverywhere)
     EXPECT_NEAR(std::abs(seeds[k].x() - 0.05), 0.025, 1e-12);
     EXPECT_NEAR(std::abs(seeds[k].y() - 0.05), 0.025, 1e-12);
   }
-  estimation.setOverlap(0);
-  estimation.compute(seeds, frames);
+  computeQuadFrames(grid, 0, seeds, frames);
   EXPECT_EQ(seeds.size(), static_cast<std::size_t>(n * n));
-  estimation.setOverlap(2);
-  estimation.compute(seeds, frames);
+  computeQuadFrames(grid, 2, seeds, frames);
   EXPECT_EQ(seeds.size(), 9u * n * n);
 }
 
-TEST(QuadFrameEstimation, FramesOnASphereAreOrthonormalRadialAndConsistent)
+TEST(QuadFrames, FramesOnASphereAreOrthonormalRadialAndConsistent)
 {
   const TriangleMesh sphere = makeIcosphere(5, 0.5);
   QuadRemesher remesher;
@@ -102,14 +97,12 @@ TEST(QuadFrameEstimation, FramesOnASphereAreOrthonormalRadialAndConsistent)
   remesher.setQuadLength(0.05);
   QuadMesh quads;
   remesher.process(quads);
-  QuadFrameEstimation estimation;
-  estimation.setInputQuadMesh(std::make_shared<const QuadMesh>(quads));
   std::vector<Eigen::Vector3d> seeds;
   std::vector<Eigen::Matrix3d> frames;
   std::vector<std::int32_t> seed_faces;
-  estimation.compute(seeds, frames, &seed_faces);
+  computeQuadFrames(quads, 1, seeds, frames, &seed_faces);
   ASSERT_GT(seeds.size(), 1000u);
-  const std::vector<Eigen::Matrix3d> face_frames = estimation.computeFaceFrames();
+  const std::vector<Eigen::Matrix3d> face_frames = computeQuadFaceFrames(quads);
   std::size_t radial = 0;
   for (std::size_t s = 0; s < seeds.size(); ++s) {
     const Eigen::Matrix3d r = frames[s];
@@ -127,24 +120,21 @@ TEST(QuadFrameEstimation, FramesOnASphereAreOrthonormalRadialAndConsistent)
   EXPECT_GE(consistentPairs(quads, face_frames, 20.0 * kDegree), 0.9);
 }
 
-TEST(QuadFrameEstimation, BadInput)
+TEST(QuadFrames, BadInput)
 {
-  QuadFrameEstimation estimation;
   std::vector<Eigen::Vector3d> seeds;
   std::vector<Eigen::Matrix3d> frames;
-  EXPECT_THROW(estimation.compute(seeds, frames), Error);
-  const auto mesh = std::make_shared<QuadMesh>();  // shared: the edits below reach the estimation
-  estimation.setInputQuadMesh(mesh);
-  EXPECT_THROW(estimation.compute(seeds, frames), Error);  // no faces
-  mesh->vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
-  mesh->faces = {{0, 1, 2, 7}};
-  EXPECT_THROW(estimation.compute(seeds, frames), Error);  // index out of range
-  mesh->faces = {{0, 1, 2, 3}, {0, 0, 0}};  // the degenerate face gives no seed
-  estimation.setOverlap(0);
-  estimation.compute(seeds, frames);
+  QuadMesh mesh;
+  EXPECT_THROW(computeQuadFrames(mesh, 1, seeds, frames), Error);  // no faces
+  EXPECT_THROW(computeQuadFaceFrames(mesh), Error);
+  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  mesh.faces = {{0, 1, 2, 7}};
+  EXPECT_THROW(computeQuadFrames(mesh, 1, seeds, frames), Error);  // index out of range
+  mesh.faces = {{0, 1, 2, 3}, {0, 0, 0}};  // the degenerate face gives no seed
+  computeQuadFrames(mesh, 0, seeds, frames);
   EXPECT_EQ(seeds.size(), 1u);
-  estimation.setOverlap(-1);
-  EXPECT_THROW(estimation.compute(seeds, frames), Error);
+  EXPECT_THROW(computeQuadFrames(mesh, -1, seeds, frames), Error);
+  EXPECT_THROW(computeQuadFrames(mesh, 17, seeds, frames), Error);
 }
 
 TEST(PatchLayout, TooLargeAQuadLengthIsAClearError)
