@@ -79,6 +79,7 @@ struct LearnRun {
   bool skip_bad = false;
   SurfacePatchOptions surface_options;
   int grid_size = 0;  ///< --grid binds .pds inputs too; without it the first input's grid does
+  DictionaryLearningOptions options;
   PatchDictionary dictionary;
 
   LearningReport report;
@@ -123,17 +124,16 @@ void readLearnLine(const Arguments& args, LearnRun& run)
   if ((args.has("checkpoint-every") || args.has("stop-after")) && run.checkpoint_path.empty())
     throw UsageError("--checkpoint-every and --stop-after need --checkpoint FILE");
 
-  PatchDictionary& dictionary = run.dictionary;
-  dictionary.setNumAtoms(static_cast<int>(args.getInt("atoms")));
-  dictionary.setSparsity(static_cast<int>(args.getInt("sparsity")));
-  dictionary.setLearningMethod(run.online ? PatchDictionary::LearningMethod::Online
-                                          : PatchDictionary::LearningMethod::KSVD);
+  DictionaryLearningOptions& options = run.options;
+  options.num_atoms = static_cast<int>(args.getInt("atoms"));
+  options.sparsity = static_cast<int>(args.getInt("sparsity"));
+  options.method = run.online ? LearningMethod::Online : LearningMethod::KSVD;
   // Not given: 3 passes online, the learner's own K-SVD iterations (20) otherwise, as the table says.
-  run.passes = static_cast<int>(args.getInt("iterations", run.online ? 3 : dictionary.getIterations()));
-  dictionary.setIterations(run.passes);
-  dictionary.setBatchSize(static_cast<int>(args.getInt("batch")));
-  dictionary.setSeed(static_cast<std::uint64_t>(args.getInt("seed")));
-  dictionary.setRemoveMean(args.has("remove-mean"));
+  run.passes = static_cast<int>(args.getInt("iterations", run.online ? 3 : options.iterations));
+  options.iterations = run.passes;
+  options.batch_size = static_cast<int>(args.getInt("batch"));
+  options.seed = static_cast<std::uint64_t>(args.getInt("seed"));
+  run.dictionary.setRemoveMean(args.has("remove-mean"));
   run.buffer_capacity = static_cast<std::size_t>(args.getInt("buffer"));
   run.checkpoint_every = static_cast<std::size_t>(args.getInt("checkpoint-every"));
   run.stop_after = static_cast<std::size_t>(args.getInt("stop-after", 0));  // 0: never
@@ -141,7 +141,7 @@ void readLearnLine(const Arguments& args, LearnRun& run)
   run.surface_options.grid_size = static_cast<int>(args.getInt("grid"));
   run.surface_options.quad_length = args.getDouble("quad-length");
   run.surface_options.overlap = static_cast<int>(args.getInt("overlap"));
-  run.surface_options.seed = dictionary.getSeed();
+  run.surface_options.seed = options.seed;
   run.grid_size = args.has("grid") ? run.surface_options.grid_size : 0;
 
   for (const std::string& path : run.inputs.paths) {
@@ -202,10 +202,10 @@ void learnOnline(const Arguments& args, LearnRun& run)
 {
   LearningCheckpoint& progress = run.progress;
   OnlineLearningParameters parameters;
-  parameters.num_atoms = run.dictionary.getNumAtoms();
-  parameters.sparsity = run.dictionary.getSparsity();
-  parameters.batch_size = run.dictionary.getBatchSize();
-  parameters.seed = run.dictionary.getSeed();
+  parameters.num_atoms = run.options.num_atoms;
+  parameters.sparsity = run.options.sparsity;
+  parameters.batch_size = run.options.batch_size;
+  parameters.seed = run.options.seed;
   OnlineDictionaryLearner learner(parameters);
   PatchShuffleBuffer buffer(run.buffer_capacity, parameters.batch_size, parameters.seed);
   startOnline(args, run, learner, buffer, parameters);
@@ -282,7 +282,7 @@ void learnOnline(const Arguments& args, LearnRun& run)
     if (progress.patches == 0 || learner.dictionary().size() == 0)
       throw Error(progress.skipped.size() == run.num_inputs ? "every input was bad and skipped"
                                                             : "the inputs hold no patches");
-    run.dictionary.setAtoms(learner.dictionary(), progress.patches);
+    run.dictionary.setAtoms(learner.dictionary(), progress.patches, run.options);
     saveCheckpoint();  // the finished state: resuming from it only writes the dictionary again
   }
 }
@@ -315,7 +315,8 @@ void learnKsvd(LearnRun& run, StageTimer& timer)
   run.progress.observed_sum = patches.observedFraction() * static_cast<double>(patches.numPatches());
   run.max_buffered = patches.numPatches();
   timer.start("learn");
-  run.report = run.dictionary.learn(patches.heights, patches.observed.all() ? ObservationMask() : patches.observed);
+  run.report = run.dictionary.learn(patches.heights, patches.observed.all() ? ObservationMask() : patches.observed,
+                                    run.options);
 }
 
 // 4. --json.
@@ -333,10 +334,10 @@ JsonObject learnJson(const LearnRun& run, std::size_t patch_count, double observ
   json.add("skipped", skipped);
   json.add("patches", patch_count).add("patches_streamed", static_cast<std::size_t>(run.progress.patches_streamed));
   json.add("grid_size", run.grid_size).add("observed_fraction", observed_fraction);
-  json.add("atoms", run.dictionary.getNumAtoms()).add("sparsity", run.dictionary.getSparsity()).add("iterations", run.passes);
+  json.add("atoms", run.options.num_atoms).add("sparsity", run.options.sparsity).add("iterations", run.passes);
   json.add("max_input_patches", run.max_input_patches).add("max_buffered_patches", run.max_buffered);
   if (run.online) {
-    json.add("buffer", run.buffer_capacity).add("batch", run.dictionary.getBatchSize()).add("batches", run.batches);
+    json.add("buffer", run.buffer_capacity).add("batch", run.options.batch_size).add("batches", run.batches);
     json.add("resumed", run.resumed);
     if (run.resumed)
       json.add("resumed_pass", static_cast<std::size_t>(run.resumed_pass))
@@ -385,7 +386,7 @@ int runLearn(const std::vector<std::string>& raw)
     if (!run.complete) {
       std::printf("stopped after %zu inputs; continue with --resume %s\n", run.stop_after, run.checkpoint_path.c_str());
     } else {
-      std::printf("learned %d atoms from %zu patches of %zu inputs -> %s", run.dictionary.getNumAtoms(), patch_count,
+      std::printf("learned %d atoms from %zu patches of %zu inputs -> %s", run.options.num_atoms, patch_count,
                   run.num_inputs - run.progress.skipped.size(), run.output.c_str());
       if (!run.report.rmse_per_iteration.empty())
         std::printf(" (RMS representation error %.4g after the last coding step)", run.report.rmse_per_iteration.back());

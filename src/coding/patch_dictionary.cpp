@@ -106,41 +106,45 @@ Eigen::VectorXd PatchDictionary::patchMeans(const Eigen::MatrixXd& patches, cons
   return means;
 }
 
-LearningReport PatchDictionary::learn(const Eigen::MatrixXd& patches, const ObservationMask& mask)
+LearningReport PatchDictionary::learn(const Eigen::MatrixXd& patches, const ObservationMask& mask,
+                                     const DictionaryLearningOptions& options)
 {
   const int grid = gridOf(patches.rows());
-  if (num_atoms_ < 1 || num_atoms_ > kMaxAtoms)
+  if (options.num_atoms < 1 || options.num_atoms > kMaxAtoms)
     throw Error("the number of atoms must be in [1, " + std::to_string(kMaxAtoms) + "]");
-  if (sparsity_ < 1 || iterations_ < 1 || batch_size_ < 1)
+  if (options.sparsity < 1 || options.iterations < 1 || options.batch_size < 1)
     throw Error("sparsity, iterations and batch size must be at least 1");
   const ObservationMask* mask_pointer = mask.size() ? &mask : nullptr;
   Eigen::MatrixXd storage;
   const Eigen::MatrixXd& training = centred(patches, patchMeans(patches, mask_pointer), storage);
   LearningReport report;
-  if (method_ == LearningMethod::KSVD) {
+  if (options.method == LearningMethod::KSVD) {
     KSVDParameters parameters;
-    parameters.num_atoms = num_atoms_;
-    parameters.sparsity = sparsity_;
-    parameters.iterations = iterations_;
-    parameters.seed = seed_;
+    parameters.num_atoms = options.num_atoms;
+    parameters.sparsity = options.sparsity;
+    parameters.iterations = options.iterations;
+    parameters.seed = options.seed;
     atoms_ = learnKSVD(training, mask, parameters, &report);
   } else {
     OnlineLearningParameters parameters;
-    parameters.num_atoms = num_atoms_;
-    parameters.sparsity = sparsity_;
-    parameters.batch_size = batch_size_;
-    parameters.seed = seed_;
+    parameters.num_atoms = options.num_atoms;
+    parameters.sparsity = options.sparsity;
+    parameters.batch_size = options.batch_size;
+    parameters.seed = options.seed;
     OnlineDictionaryLearner learner(parameters);
-    learner.fit(training, mask, iterations_);
+    learner.fit(training, mask, options.iterations);
     atoms_ = learner.dictionary();
   }
+  learned_with_ = options;
+  learned_with_.num_atoms = static_cast<int>(atoms_.cols());
   grid_size_ = grid;
   gram_ = atoms_.transpose() * atoms_;
   training_patches_ = static_cast<std::uint64_t>(patches.cols());
   return report;
 }
 
-void PatchDictionary::setAtoms(const Eigen::MatrixXd& atoms, std::uint64_t training_patches)
+void PatchDictionary::setAtoms(const Eigen::MatrixXd& atoms, std::uint64_t training_patches,
+                               const DictionaryLearningOptions& learned_with)
 {
   const int grid = gridOf(atoms.rows());
   if (atoms.cols() < 1 || atoms.cols() > kMaxAtoms || !atoms.allFinite())
@@ -154,7 +158,8 @@ void PatchDictionary::setAtoms(const Eigen::MatrixXd& atoms, std::uint64_t train
   }
   atoms_ = normalised;
   grid_size_ = grid;
-  num_atoms_ = static_cast<int>(atoms.cols());
+  learned_with_ = learned_with;
+  learned_with_.num_atoms = static_cast<int>(atoms.cols());
   gram_ = atoms_.transpose() * atoms_;
   training_patches_ = training_patches;
 }
@@ -223,10 +228,10 @@ void PatchDictionary::save(const std::string& path) const
   header.grid_size = static_cast<std::uint32_t>(grid_size_);
   header.num_atoms = static_cast<std::uint32_t>(atoms_.cols());
   header.flags = remove_mean_ ? 1u : 0u;
-  header.method = static_cast<std::uint32_t>(method_);
-  header.sparsity = static_cast<std::uint32_t>(sparsity_);
-  header.iterations = static_cast<std::uint32_t>(iterations_);
-  header.seed = seed_;
+  header.method = static_cast<std::uint32_t>(learned_with_.method);
+  header.sparsity = static_cast<std::uint32_t>(learned_with_.sparsity);
+  header.iterations = static_cast<std::uint32_t>(learned_with_.iterations);
+  header.seed = learned_with_.seed;
   header.training_patches = training_patches_;
   std::string bytes(reinterpret_cast<const char*>(&header), sizeof header);
   bytes.append(reinterpret_cast<const char*>(atoms_.data()), sizeof(double) * static_cast<std::size_t>(atoms_.size()));
@@ -284,12 +289,12 @@ PatchDictionary::Ptr PatchDictionary::fromBytes(const std::string& bytes, int ex
     throw Error(where + "atoms contain NaN or Inf");
   dictionary->atoms_ = atoms;
   dictionary->grid_size_ = static_cast<int>(header.grid_size);
-  dictionary->num_atoms_ = static_cast<int>(header.num_atoms);
+  dictionary->learned_with_.num_atoms = static_cast<int>(header.num_atoms);
   dictionary->remove_mean_ = (header.flags & 1u) != 0;
-  dictionary->method_ = static_cast<LearningMethod>(header.method);
-  dictionary->sparsity_ = static_cast<int>(header.sparsity);
-  dictionary->iterations_ = static_cast<int>(header.iterations);
-  dictionary->seed_ = header.seed;
+  dictionary->learned_with_.method = static_cast<LearningMethod>(header.method);
+  dictionary->learned_with_.sparsity = static_cast<int>(header.sparsity);
+  dictionary->learned_with_.iterations = static_cast<int>(header.iterations);
+  dictionary->learned_with_.seed = header.seed;
   dictionary->training_patches_ = header.training_patches;
   dictionary->gram_ = atoms.transpose() * atoms;
   return dictionary;

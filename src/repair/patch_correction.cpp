@@ -112,10 +112,11 @@ PatchDictionary::ConstPtr PatchCorrection::learnSelfSimilar(const Eigen::MatrixX
   const std::size_t usable_count = static_cast<std::size_t>(usable_heights.cols());
   const Eigen::Index bins = usable_heights.rows();
   auto learned = std::make_shared<PatchDictionary>();
-  learned->setNumAtoms(std::min<int>(p.self_similar_atoms, static_cast<int>(usable_count)));
-  learned->setSparsity(std::min(p.sparsity, learned->getNumAtoms()));
-  learned->setIterations(p.self_similar_iterations);
-  learned->setSeed(p.seed + 1);
+  DictionaryLearningOptions options;
+  options.num_atoms = std::min<int>(p.self_similar_atoms, static_cast<int>(usable_count));
+  options.sparsity = std::min(p.sparsity, options.num_atoms);
+  options.iterations = p.self_similar_iterations;
+  options.seed = p.seed + 1;
   if (p.self_similar_max_patches > 0 && usable_count > static_cast<std::size_t>(p.self_similar_max_patches)) {
     // An evenly spaced subset: K-SVD time grows with the patch count, the atoms hardly do.
     const Eigen::Index count = p.self_similar_max_patches;
@@ -127,9 +128,9 @@ PatchDictionary::ConstPtr PatchCorrection::learnSelfSimilar(const Eigen::MatrixX
       subset.col(i) = usable_heights.col(column);
       subset_mask.col(i) = usable_mask.col(column);
     }
-    learned->learn(subset, subset_mask);
+    learned->learn(subset, subset_mask, options);
   } else {
-    learned->learn(usable_heights, usable_mask);
+    learned->learn(usable_heights, usable_mask, options);
   }
   return learned;
 }

@@ -192,13 +192,13 @@ TEST(CliOptions, DefaultsAreTheLibrarys)
   EXPECT_EQ(optionOf("quads", "smoothing").text_default, "laplacian");
   EXPECT_EQ(layout.smoothing, CoarseMeshEstimation::Method::Laplacian);
 
-  PatchDictionary dictionary;
-  EXPECT_EQ(intDefault("learn", "atoms"), dictionary.getNumAtoms());
-  EXPECT_EQ(intDefault("learn", "sparsity"), dictionary.getSparsity());
-  EXPECT_EQ(intDefault("learn", "batch"), dictionary.getBatchSize());
-  EXPECT_EQ(static_cast<std::uint64_t>(intDefault("learn", "seed")), dictionary.getSeed());
+  const DictionaryLearningOptions learning;
+  EXPECT_EQ(intDefault("learn", "atoms"), learning.num_atoms);
+  EXPECT_EQ(intDefault("learn", "sparsity"), learning.sparsity);
+  EXPECT_EQ(intDefault("learn", "batch"), learning.batch_size);
+  EXPECT_EQ(static_cast<std::uint64_t>(intDefault("learn", "seed")), learning.seed);
   EXPECT_EQ(optionOf("learn", "iterations").note, "20 (ksvd), 3 (online)");  // computed in cmd_learn.cpp
-  EXPECT_EQ(dictionary.getIterations(), 20);
+  EXPECT_EQ(learning.iterations, 20);
 
   const CloudDenoisingParameters cloud;
   const CloudCompletionParameters completion;

@@ -57,12 +57,13 @@ PatchSet bunnyPatches(const TriangleMesh& bunny)
 PatchDictionary::Ptr learnBunnyDictionary(const TriangleMesh& bunny, std::uint64_t seed = 1)
 {
   const PatchSet patches = bunnyPatches(bunny);
+  DictionaryLearningOptions options;
+  options.num_atoms = 48;
+  options.sparsity = 8;
+  options.iterations = 5;
+  options.seed = seed;
   auto dictionary = std::make_shared<PatchDictionary>();
-  dictionary->setNumAtoms(48);
-  dictionary->setSparsity(8);
-  dictionary->setIterations(5);
-  dictionary->setSeed(seed);
-  dictionary->learn(patches.heights, patches.observed);
+  dictionary->learn(patches.heights, patches.observed, options);
   return dictionary;
 }
 

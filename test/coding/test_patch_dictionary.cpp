@@ -97,6 +97,44 @@ TEST(PatchDictionary, SaveLoadIsBitExact)
   EXPECT_EQ(loaded->fingerprint(), dictionary->fingerprint());
 }
 
+TEST(PatchDictionary, TheLearningOptionsAreRecordedAndComeBackFromTheFile)
+{
+  // What a .pdd header records of the learning (method, sparsity, iterations, seed), from learn
+  // and from setAtoms, back after load; the options are not part of the fingerprint.
+  test_support::TempDir dir;
+  Eigen::MatrixXd patches = smallDictionary()->atoms() * Eigen::MatrixXd::Random(12, 40);
+  DictionaryLearningOptions options;
+  options.num_atoms = 10;
+  options.sparsity = 3;
+  options.iterations = 4;
+  options.seed = 9;
+  PatchDictionary learned;
+  learned.learn(patches, options);
+  learned.save(dir.file("learned.pdd"));
+  const auto loaded = PatchDictionary::load(dir.file("learned.pdd"));
+  for (const PatchDictionary* d : {&learned, loaded.get()}) {
+    EXPECT_EQ(d->learnedWith().num_atoms, 10);
+    EXPECT_EQ(d->learnedWith().sparsity, 3);
+    EXPECT_EQ(d->learnedWith().iterations, 4);
+    EXPECT_EQ(d->learnedWith().seed, 9u);
+    EXPECT_EQ(d->learnedWith().method, LearningMethod::KSVD);
+    EXPECT_EQ(d->trainingPatches(), 40u);
+  }
+  options.method = LearningMethod::Online;
+  PatchDictionary set, set_otherwise;
+  set.setAtoms(learned.atoms(), 77, options);
+  set_otherwise.setAtoms(learned.atoms());
+  EXPECT_EQ(set.fingerprint(), set_otherwise.fingerprint());
+  set_otherwise.setRemoveMean(true);
+  EXPECT_NE(set.fingerprint(), set_otherwise.fingerprint());
+  set.save(dir.file("set.pdd"));
+  const auto set_loaded = PatchDictionary::load(dir.file("set.pdd"));
+  EXPECT_EQ(set_loaded->learnedWith().method, LearningMethod::Online);
+  EXPECT_EQ(set_loaded->trainingPatches(), 77u);
+  options.num_atoms = 0;
+  EXPECT_THROW(learned.learn(patches, options), Error);
+}
+
 TEST(PatchDictionary, EveryCorruptionIsRejected)
 {
   test_support::TempDir dir;
@@ -218,12 +256,13 @@ TEST(PatchDictionary, MaskedCodingOfRealBunnyPatches)
   for (const auto& [mask_name, mask] : {std::make_pair("random", random_mask), std::make_pair("disk", disk_mask)})
   for (const bool remove_mean : {false, true}) {
     const double hidden_count = static_cast<double>(mask.size() - mask.count());
+    DictionaryLearningOptions options;
+    options.num_atoms = 100;
+    options.sparsity = 8;
+    options.iterations = 10;
     PatchDictionary dictionary;
-    dictionary.setNumAtoms(100);
-    dictionary.setSparsity(8);
-    dictionary.setIterations(10);
     dictionary.setRemoveMean(remove_mean);
-    dictionary.learn(patches.leftCols(train));
+    dictionary.learn(patches.leftCols(train), options);
     const Eigen::MatrixXd full = dictionary.decode(dictionary.encode(test, {8, 0.0}));
     const Eigen::MatrixXd filled = dictionary.decode(dictionary.encodeMasked(test, mask, {8, 0.0}));
     double full_error = 0.0, masked_error = 0.0, energy = 0.0;

@@ -118,10 +118,11 @@ TEST(MissingVertices, PatchesBeatTheBiLaplacianOnASinusoidalRelief)
   parameters.constraint_weight = 1.0;
   const PatchSet training = PatchCorrection::trainingPatches(truth, parameters, 16);
   ASSERT_GT(training.numPatches(), 200u);
+  DictionaryLearningOptions options;
+  options.num_atoms = 64;
+  options.iterations = 10;
   auto dictionary = std::make_shared<PatchDictionary>();
-  dictionary->setNumAtoms(64);
-  dictionary->setIterations(10);
-  dictionary->learn(training.heights, training.observed);
+  dictionary->learn(training.heights, training.observed, options);
 
   const std::vector<int> missing = pickVertices(truth.numVertices(), 0.2, 11, [](int v) {
     const int i = v % 65, j = v / 65;

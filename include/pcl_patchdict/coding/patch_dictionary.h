@@ -20,41 +20,54 @@ struct PatchCodes {
   Eigen::VectorXd means;     ///< P (zeros when the dictionary keeps the mean in the atoms)
 };
 
+enum class LearningMethod : std::uint32_t { KSVD = 0, Online = 1 };
+
+/** \brief How a dictionary is learned: options of the learning, not part of the dictionary it makes
+  * (PatchDictionary::learn). Defaults: 100 atoms, sparsity 8, 20 K-SVD iterations, batch 512,
+  * seed 1. */
+struct DictionaryLearningOptions {
+  int num_atoms = 100;
+  int sparsity = 8;     ///< atoms per patch while learning
+  int iterations = 20;  ///< K-SVD iterations; with LearningMethod::Online, passes over the data
+  int batch_size = 512; ///< LearningMethod::Online: patches per mini-batch
+  LearningMethod method = LearningMethod::KSVD;
+  std::uint64_t seed = 1;
+};
+
+/** \brief A dictionary of patch atoms — a value: the atoms (N² × K, unit columns), whether codes are
+  * of patches less their mean, and the fingerprint of both — with coding, decoding and its .pdd
+  * file. How it was learned is not part of it beyond what the .pdd file records
+  * (learnedWith()). */
 class PatchDictionary {
 public:
   using Ptr = std::shared_ptr<PatchDictionary>;
   using ConstPtr = std::shared_ptr<const PatchDictionary>;
 
-  enum class LearningMethod : std::uint32_t { KSVD = 0, Online = 1 };
-
   PatchDictionary() = default;
 
-  /** Learning parameters (defaults: 100 atoms, sparsity 8, 20 K-SVD iterations or 3 online
-    * epochs, batch 512, seed 1, mean kept). */
-  void setNumAtoms(int num_atoms) { num_atoms_ = num_atoms; }
-  int getNumAtoms() const { return num_atoms_; }
-  void setSparsity(int sparsity) { sparsity_ = sparsity; }
-  int getSparsity() const { return sparsity_; }
-  void setIterations(int iterations) { iterations_ = iterations; }
-  int getIterations() const { return iterations_; }
-  void setLearningMethod(LearningMethod method) { method_ = method; }
-  LearningMethod getLearningMethod() const { return method_; }
-  void setBatchSize(int batch_size) { batch_size_ = batch_size; }
-  int getBatchSize() const { return batch_size_; }
-  void setSeed(std::uint64_t seed) { seed_ = seed; }
-  std::uint64_t getSeed() const { return seed_; }
-  /** Subtract each patch's mean observed height before coding and add it back on decoding. */
+  /** Subtract each patch's mean observed height before coding (and learning) and add it back on
+    * decoding (default: the mean is kept). Part of the dictionary: it changes its codes and its
+    * fingerprint. */
   void setRemoveMean(bool remove_mean) { remove_mean_ = remove_mean; }
   bool getRemoveMean() const { return remove_mean_; }
 
-  /** \brief Learns the atoms from patches (N² × P, one column per patch, N² a square). Unobserved
-    * bins (mask false) are ignored. With LearningMethod::Online, `iterations` is the number of
-    * passes over the data. Throws Error for bad sizes or parameters. */
-  LearningReport learn(const Eigen::MatrixXd& patches, const ObservationMask& mask = ObservationMask());
+  /** \brief Learns the atoms from patches (N² × P, one column per patch, N² a square), replacing
+    * any it had. Unobserved bins (mask false; an empty mask: all observed) are ignored. Throws
+    * Error for bad sizes or options. */
+  LearningReport learn(const Eigen::MatrixXd& patches, const ObservationMask& mask,
+                       const DictionaryLearningOptions& options = DictionaryLearningOptions());
+  /** The same with every bin observed. */
+  LearningReport learn(const Eigen::MatrixXd& patches,
+                       const DictionaryLearningOptions& options = DictionaryLearningOptions())
+  {
+    return learn(patches, ObservationMask(), options);
+  }
 
   /** Uses the given atoms (N² × K, normalised here) instead of learning them; `training_patches`
-    * is what the .pdd file records as their origin (e.g. an OnlineDictionaryLearner's count). */
-  void setAtoms(const Eigen::MatrixXd& atoms, std::uint64_t training_patches = 0);
+    * and `learned_with` are what the .pdd file records as their origin (e.g. an
+    * OnlineDictionaryLearner's patch count and options). */
+  void setAtoms(const Eigen::MatrixXd& atoms, std::uint64_t training_patches = 0,
+                const DictionaryLearningOptions& learned_with = DictionaryLearningOptions());
 
   /** Sparse codes of fully observed patches (Batch-OMP). */
   PatchCodes encode(const Eigen::MatrixXd& patches, const SparseCodingParameters& parameters) const;
@@ -76,10 +89,15 @@ public:
 
   bool empty() const { return atoms_.size() == 0; }
   int gridSize() const { return grid_size_; }
+  int numAtoms() const { return static_cast<int>(atoms_.cols()); }
   const Eigen::MatrixXd& atoms() const { return atoms_; }
   const Eigen::MatrixXd& gram() const { return gram_; }
   /** Number of patches the atoms were learned from (0 if set directly). */
   std::uint64_t trainingPatches() const { return training_patches_; }
+  /** The options the atoms were learned with (learn, setAtoms); num_atoms is the atoms' count. A
+    * .pdd file records the method, sparsity, iterations and seed: after load, batch_size is its
+    * default. */
+  const DictionaryLearningOptions& learnedWith() const { return learned_with_; }
   /** 64-bit fingerprint of the atoms and the mean option: what a compressed file records to
     * refuse decoding with another dictionary. */
   std::uint64_t fingerprint() const;
@@ -93,12 +111,7 @@ private:
   const Eigen::MatrixXd& centred(const Eigen::MatrixXd& patches, const Eigen::VectorXd& means,
                                  Eigen::MatrixXd& storage) const;
 
-  int num_atoms_ = 100;
-  int sparsity_ = 8;
-  int iterations_ = 20;
-  int batch_size_ = 512;
-  LearningMethod method_ = LearningMethod::KSVD;
-  std::uint64_t seed_ = 1;
+  DictionaryLearningOptions learned_with_;
   bool remove_mean_ = false;
 
   int grid_size_ = 0;
