@@ -1,6 +1,6 @@
 # Runs one example on an input made at test time and checks its output (cmake -P; see CMakeLists.txt).
-# -DCASE=cloud_pipeline|mesh_repair -DEXAMPLE=... -DMAKE_INPUTS=... -DTOOL=pcl_patchdict -DMESH=bunny.obj
-# -DWORK_DIR=...
+# -DCASE=cloud_pipeline|mesh_repair|organized_frame_pipeline|patch_features -DEXAMPLE=...
+# -DMAKE_INPUTS=... -DTOOL=pcl_patchdict -DMESH=bunny.obj -DFRAME=frame.pcd -DWORK_DIR=...
 cmake_minimum_required(VERSION 3.16)
 foreach(var CASE EXAMPLE MAKE_INPUTS TOOL MESH WORK_DIR)
   if(NOT DEFINED ${var})
@@ -73,6 +73,24 @@ elseif(CASE STREQUAL "mesh_repair")
   require("the output has more faces (${out_faces}) than the input (${in_faces})" out_faces GREATER in_faces)
   require("no punched hole left open (${out_boundary_loops} boundary loops, at most ${original_boundary_loops})"
           NOT out_boundary_loops GREATER original_boundary_loops)
-else()
-  message(FATAL_ERROR "run_example_test.cmake: unknown CASE '${CASE}'")
+elseif(CASE STREQUAL "patch_features")
+  set(input "${WORK_DIR}/noisy_bunny.pcd")
+  set(output "${WORK_DIR}/bunny_patches.pdd")
+  run("make input" ignored "${MAKE_INPUTS}" cloud "${MESH}" "${input}")
+  run("${CASE}" said "${EXAMPLE}" "${input}" "${output}")
+  require("output ${output} exists" EXISTS "${output}")
+  if(NOT said MATCHES "([0-9]+) seeds .* ([0-9]+) patches, ([0-9.]+) % of their bins observed; .*\\(([0-9.]+) % of L\\)")
+    message(FATAL_ERROR "unexpected report: ${said}")
+  endif()
+  set(seeds ${CMAKE_MATCH_1})
+  set(patches ${CMAKE_MATCH_2})
+  set(observed ${CMAKE_MATCH_3})
+  set(error ${CMAKE_MATCH_4})
+  # L is 20 point spacings (about 0.14 of the bunny's size): some 100 quads, five seeds each.
+  require("more than 300 seeds (${seeds})" seeds GREATER 300)
+  require("one patch per seed (${patches} for ${seeds})" patches EQUAL seeds)
+  require("about half the bins observed or more (${observed} %)" observed GREATER 40)
+  # The cloud's noise (σ = 0.3 mean edges, 1 % outliers) stays in the bins: 6 atoms a patch
+  # describe the rest; heights in wrong frames or bins would be off by a good part of L.
+  require("the coding error is below 8 % of L (${error} %)" error LESS 8)
 endif()

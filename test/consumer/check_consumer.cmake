@@ -1,5 +1,6 @@
 # Installs the built project into a scratch prefix, then configures, builds and runs a tiny
-# consumer that uses find_package(pcl_patchdict). Run with cmake -P (see test/CMakeLists.txt).
+# consumer that uses find_package(pcl_patchdict), and builds examples/patch_features.cpp against
+# the installed package too. Run with cmake -P (see test/CMakeLists.txt).
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR})
 set(prefix ${WORK_DIR}/prefix)
@@ -10,6 +11,7 @@ if(NOT rc EQUAL 0)
 endif()
 execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR}/test/consumer -B ${WORK_DIR}/build
                         -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_BUILD_TYPE=Release
+                        -DEXAMPLES_DIR=${SOURCE_DIR}/examples
                 RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "configuring the consumer failed (${rc})")
@@ -20,6 +22,6 @@ if(NOT rc EQUAL 0)
 endif()
 execute_process(COMMAND ${WORK_DIR}/build/consumer RESULT_VARIABLE rc OUTPUT_VARIABLE out)
 message(STATUS "consumer printed: ${out}")
-if(NOT rc EQUAL 0 OR NOT out MATCHES "faces=8")
+if(NOT rc EQUAL 0 OR NOT out MATCHES "faces=8" OR NOT out MATCHES "bins=256 256 256 observed=256 256 256")
   message(FATAL_ERROR "consumer failed (${rc}): ${out}")
 endif()
