@@ -39,7 +39,7 @@ struct CloudRepairLine {
   CloudCompletionParameters completion;  ///< max_hole_diameter in those units; 0: each fill's own bound
   OrganizedFillParameters organized;
   std::string height_field = "auto";
-  std::string patches = "auto";  ///< --patches: auto or always
+  std::string patches = "measured";  ///< --patch-decision: measured or always
   /// The bound the report names: the one given, or Poisson's own (CloudHoleCompletion's 0.15 × the
   /// largest side when max_hole_diameter is 0).
   double reportedMaxHoleDiameter() const
@@ -96,7 +96,7 @@ CloudRepairLine readCloudRepairLine(const Arguments& args, bool fill)
     line.organized.fit_ring = static_cast<int>(args.getInt("fit-ring"));
     line.height_field = args.getWord("height-field");
   }
-  line.patches = args.getWord("patches");
+  line.patches = args.getWord("patch-decision");
   return line;
 }
 
@@ -453,8 +453,8 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
     throw UsageError("--self-similar excludes --dict and --no-patches");
   if (args.has("dict") && args.has("no-patches"))
     throw UsageError("--dict excludes --no-patches");
-  if (args.has("no-patches") && args.has("patches"))
-    throw UsageError("--no-patches excludes --patches");
+  if (args.has("no-patches") && args.has("patch-decision"))
+    throw UsageError("--no-patches excludes --patch-decision");
   const pcl::PointCloud<pcl::PointNormal>::Ptr& cloud = input.cloud;
   note(line.quiet, "  " + std::to_string(cloud->size()) + " points" +
                        (cloud->height > 1 ? " (organised " + std::to_string(cloud->width) + " x " +

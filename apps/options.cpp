@@ -238,7 +238,8 @@ std::vector<OptionSpec> cloudDenoisingOptions()
           real("residual-outliers", "F", 4.0, 0.0, 1e6, "points farther than F σ from their patch are removed"),
           flag("no-patches", "the geometric result alone (no patch stage)"),
           flag("self-similar", "patches of a dictionary learned from the input (the default; applied if measured to help)"),
-          word("patches", {"auto", "always"}, "auto", "apply the patches when measured to help, or always (to measure them)"),
+          word("patch-decision", {"measured", "always"}, "measured",
+               "keep the patches only when measured to help, or always (to measure them)"),
           text("dict", "DICT.pdd", "code the patches over this dictionary (applied if measured to help)")};
 }
 
