@@ -3,6 +3,7 @@
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/patches/height_maps.h>
 
+#include "patches/point_cells.h"
 #include "pcl/point_conversion.h"
 
 #include <pcl/kdtree/kdtree_flann.h>
@@ -60,30 +61,38 @@ double coordinateScale(const std::vector<Eigen::Vector3d>& points, const std::ve
 
 int threadCount(int requested) { return requested > 0 ? requested : omp_get_max_threads(); }
 
+/** ⌊v⌋ for |v| well inside the int range. */
+inline int floorToInt(double v)
+{
+  const int i = static_cast<int>(v);
+  return i - (static_cast<double>(i) > v ? 1 : 0);
+}
+
 /** A point's height spread over the bins whose centres lie within R = reach × bin of it (in the
   * plane), weighted by the biweight (1 − d²/R²)² (close to a Gaussian of σ = R/2, without an
   * exponential per bin): bins stay observed where random samples are sparser than the grid. */
 void splat(const Eigen::Vector3d& local, const Grid& grid, int n, double reach, std::vector<double>& sums,
            std::vector<double>& weights)
 {
-  const double reach_length = reach * grid.bin;
-  const double inv_reach_sq = 1.0 / (reach_length * reach_length);
-  const double x = (local.x() + grid.half) / grid.bin - 0.5, y = (local.y() + grid.half) / grid.bin - 0.5;
-  const int u0 = std::max(0, static_cast<int>(std::ceil(x - reach)));
-  const int u1 = std::min(n - 1, static_cast<int>(std::floor(x + reach)));
-  const int v0 = std::max(0, static_cast<int>(std::ceil(y - reach)));
-  const int v1 = std::min(n - 1, static_cast<int>(std::floor(y + reach)));
-  for (int v = v0; v <= v1; ++v)
+  // Bin units throughout (the bin's side is 1): no division, and floors by integer conversion (a
+  // library call per floor otherwise, without SSE4.1 in the build).
+  const double inv_bin = 1.0 / grid.bin, inv_reach_sq = 1.0 / (reach * reach);
+  const double x = (local.x() + grid.half) * inv_bin - 0.5, y = (local.y() + grid.half) * inv_bin - 0.5;
+  const int u0 = std::max(0, -floorToInt(reach - x)), u1 = std::min(n - 1, floorToInt(x + reach));
+  const int v0 = std::max(0, -floorToInt(reach - y)), v1 = std::min(n - 1, floorToInt(y + reach));
+  for (int v = v0; v <= v1; ++v) {
+    const double dy = v - y;
+    const double row = 1.0 - dy * dy * inv_reach_sq;
+    double* sum_row = sums.data() + static_cast<std::size_t>(v) * n;
+    double* weight_row = weights.data() + static_cast<std::size_t>(v) * n;
     for (int u = u0; u <= u1; ++u) {
-      const double dx = (u - x) * grid.bin, dy = (v - y) * grid.bin;
-      const double q = 1.0 - (dx * dx + dy * dy) * inv_reach_sq;
-      if (q <= 0.0)
-        continue;
+      const double dx = u - x;
+      const double q = std::max(row - dx * dx * inv_reach_sq, 0.0);  // no branch: adding 0 is no-op
       const double w = q * q;
-      const std::size_t k = static_cast<std::size_t>(v) * n + static_cast<std::size_t>(u);
-      sums[k] += w * local.z();
-      weights[k] += w;
+      sum_row[u] += w * local.z();
+      weight_row[u] += w;
     }
+  }
 }
 
 const std::string kWhat = "height-map patches: ";
@@ -114,9 +123,10 @@ void checkPoints(const std::vector<Eigen::Vector3d>& points)
       throw Error(kWhat + "the input surface has non-finite coordinates");
 }
 
-/** One patch per seed, every bin unobserved at height 0. */
+/** One patch per seed, every bin unobserved at height 0 (or, with `filled_later`, left for the
+  * caller to write every bin: no pass over memory to zero it first). */
 PatchSet unobservedPatches(const std::vector<Eigen::Vector3d>& seeds, const std::vector<Eigen::Matrix3d>& frames,
-                           const HeightMapParameters& parameters)
+                           const HeightMapParameters& parameters, bool filled_later = false)
 {
   const auto patches = static_cast<Eigen::Index>(seeds.size());
   const Eigen::Index bins = static_cast<Eigen::Index>(parameters.grid_size) * parameters.grid_size;
@@ -125,8 +135,13 @@ PatchSet unobservedPatches(const std::vector<Eigen::Vector3d>& seeds, const std:
   result.radius = parameters.radius;
   result.seeds = seeds;
   result.rotations = frames;
-  result.heights = Eigen::MatrixXd::Zero(bins, patches);
-  result.observed = ObservationMask::Constant(bins, patches, false);
+  if (filled_later) {
+    result.heights.resize(bins, patches);
+    result.observed.resize(bins, patches);
+  } else {
+    result.heights = Eigen::MatrixXd::Zero(bins, patches);
+    result.observed = ObservationMask::Constant(bins, patches, false);
+  }
   result.source.assign(seeds.size(), parameters.source_index);
   return result;
 }
@@ -247,48 +262,47 @@ void cloudHeights(const std::vector<Eigen::Vector3d>& points, const std::vector<
   const double radius = parameters.radius;
   const int grid_size = parameters.grid_size;
   const Grid grid = makeGrid(grid_size, radius);
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree(false);
-  tree.setInputCloud(detail::toCloudXYZ(points));
-  const double query_radius = floatSafeRadius(radius, coordinateScale(points, seeds));
+  // Cells of half the radius: a query reads about twice the points of its ball, in a fixed order
+  // (cell by cell, index order within one), so the sums are bit-identical whatever the threads.
+  const detail::PointCells cells(points, 0.5 * radius);
+  const double query_radius = radius * (1.0 + 1e-6);  // the frames are rotations to float precision
   const double radius_squared = radius * radius;
   const int n = grid_size;
 
 #pragma omp parallel num_threads(threadCount(parameters.num_threads))
   {
-    std::vector<int> neighbours;
-    std::vector<float> distances;
     std::vector<double> sums(static_cast<std::size_t>(n) * n);
     std::vector<double> counts(static_cast<std::size_t>(n) * n);
 #pragma omp for schedule(dynamic, 8)
     for (std::ptrdiff_t p = 0; p < static_cast<std::ptrdiff_t>(seeds.size()); ++p) {
       const Eigen::Vector3d& seed = seeds[static_cast<std::size_t>(p)];
       const Eigen::Matrix3d& rotation = frames[static_cast<std::size_t>(p)];
-      tree.radiusSearch(detail::toPointXYZ(seed), query_radius, neighbours, distances);
-      // Summation in index order: bit-identical means whatever FLANN's order and the thread count.
-      std::sort(neighbours.begin(), neighbours.end());
       std::fill(sums.begin(), sums.end(), 0.0);
       std::fill(counts.begin(), counts.end(), 0.0);
-      for (const int index : neighbours) {
-        const Eigen::Vector3d local = rotation * (points[static_cast<std::size_t>(index)] - seed);
+      cells.forEachNear(seed, query_radius, [&](const Eigen::Vector3d& point) {
+        const Eigen::Vector3d offset = point - seed;
+        if (offset.squaredNorm() > query_radius * query_radius)
+          return;
+        const Eigen::Vector3d local = rotation * offset;
         if (local.squaredNorm() > radius_squared)
-          continue;
+          return;
         if (parameters.bin_reach > 0.0) {
           splat(local, grid, n, parameters.bin_reach, sums, counts);
-          continue;
+          return;
         }
         const double u = std::floor((local.x() + grid.half) / grid.bin);
         const double v = std::floor((local.y() + grid.half) / grid.bin);
         if (u < 0.0 || v < 0.0 || u >= n || v >= n)
-          continue;
+          return;
         const std::size_t k = static_cast<std::size_t>(v) * n + static_cast<std::size_t>(u);
         sums[k] += local.z();
         counts[k] += 1.0;
+      });
+      for (std::size_t k = 0; k < sums.size(); ++k) {  // every bin: the output was not zeroed
+        const bool observed = counts[k] > 0.0;
+        out.heights(static_cast<Eigen::Index>(k), p) = observed ? sums[k] / counts[k] : 0.0;
+        out.observed(static_cast<Eigen::Index>(k), p) = observed;
       }
-      for (std::size_t k = 0; k < sums.size(); ++k)
-        if (counts[k] > 0.0) {
-          out.heights(static_cast<Eigen::Index>(k), p) = sums[k] / counts[k];
-          out.observed(static_cast<Eigen::Index>(k), p) = true;
-        }
     }
   }
 }
@@ -335,7 +349,7 @@ void extractCloudHeightMaps(const std::vector<Eigen::Vector3d>& points, const st
 {
   checkParameters(seeds, frames, parameters);
   checkPoints(points);
-  PatchSet result = unobservedPatches(seeds, frames, parameters);
+  PatchSet result = unobservedPatches(seeds, frames, parameters, true);
   if (!seeds.empty())
     cloudHeights(points, seeds, frames, parameters, result);
   out = std::move(result);
