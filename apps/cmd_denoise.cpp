@@ -3,8 +3,8 @@
 // dictionary, every patch replaced by its sparse approximation to an error target matched to the
 // noise (denoiseWithPatches). Vertex count, order and faces kept.
 // Without --dict no patches are used unless --self-similar asks for a dictionary learned from the
-// noisy input itself: nothing of a noisy input is intact, and measured on scans such a dictionary
-// makes the result worse than the base (README "Measured").
+// noisy input itself. Either way the patches go into the result only when Stein's risk estimate
+// says they lower the error (--patch-decision always applies them regardless, to measure them).
 #include "cli.h"
 #include "options.h"
 #include "repair_options.h"
@@ -33,8 +33,11 @@ int runDenoise(const std::vector<std::string>& raw)
     throw UsageError("--noise and --noise-edges exclude each other");
   if (args.has("mu"))
     throw UsageError("--mu weighs the patch constraints of inpaint and fill-holes; denoise's is --fidelity");
-  if (!args.has("dict") && !args.has("self-similar"))
+  if (!args.has("dict") && !args.has("self-similar")) {
     refusePatchOptions(args, "denoise runs only with --dict or --self-similar");
+    if (args.has("patch-decision"))
+      throw UsageError("--patch-decision needs --dict or --self-similar");
+  }
   const bool quiet = line.quiet;
   const std::string& in_path = line.in_path;
   const std::string& out_path = line.out_path;
@@ -48,6 +51,7 @@ int runDenoise(const std::vector<std::string>& raw)
   parameters.fidelity = args.getDouble("fidelity");
   parameters.base_iterations = static_cast<int>(args.getInt("base-iterations"));
   parameters.discrepancy = args.getDouble("discrepancy");
+  parameters.decision = args.getWord("patch-decision") == "always" ? PatchDecision::Always : PatchDecision::Auto;
   StageTimer timer(quiet);
   const RepairInputs inputs = loadRepairInputs(line, parameters.grid_size, "denoise", timer);
   const TriangleMesh& mesh = inputs.mesh;
@@ -65,8 +69,14 @@ int runDenoise(const std::vector<std::string>& raw)
                 report.noise_sigma / std::max(report.mean_edge_length, 1e-300));
   note(quiet, sigma_line);
   note(quiet, "  base: Taubin smoothing, " + std::to_string(report.base_iterations) + " iterations");
-  if (report.used_patches)
+  if (!report.patch_decision.empty())
     note(quiet, patchStageSummary(report.patches));
+  if (report.patch_decision == "kept" || report.patch_decision == "declined") {
+    char decision[200];
+    std::snprintf(decision, sizeof decision, "  patches %s: estimated error %.4g with them, %.4g without (Stein)",
+                  report.patch_decision.c_str(), report.patch_error, report.base_error);
+    note(quiet, decision);
+  }
 
   timer.start("write");
   writeMesh(out_path, denoised);
@@ -81,7 +91,13 @@ int runDenoise(const std::vector<std::string>& raw)
     json.add("noise_sigma", report.noise_sigma).add("noise_estimated", report.noise_estimated);
     json.add("base_iterations", report.base_iterations);
     json.add("noise_sigma_over_mean_edge", report.noise_sigma / std::max(report.mean_edge_length, 1e-300));
-    if (report.used_patches) {
+    if (!report.patch_decision.empty()) {
+      json.add("patch_decision", report.patch_decision);
+      if (report.base_error >= 0.0)
+        json.add("estimated_error", JsonObject()
+                                        .add("base", report.base_error)
+                                        .add("patches", report.patch_error)
+                                        .add("seconds", report.seconds_decision));
       json.add("patch_stage", patchStageJson(report.patches));
       json.add("sparsity", parameters.sparsity).add("error_factor", parameters.error_factor);
       json.add("fidelity", parameters.fidelity).add("mean_correction", report.mean_correction);
@@ -92,7 +108,9 @@ int runDenoise(const std::vector<std::string>& raw)
     std::cout << json.str() << '\n';
   } else if (!quiet) {
     std::printf("denoised %zu vertices (%s) -> %s\n", mesh.numVertices(),
-                report.used_patches ? (dictionary_kind + " dictionary").c_str() : "Taubin base alone",
+                report.used_patches ? (dictionary_kind + " dictionary").c_str()
+                : report.patch_decision == "declined" ? "Taubin base: the patches were measured not to help"
+                                                       : "Taubin base alone",
                 out_path.c_str());
   }
   return 0;

@@ -225,6 +225,12 @@ std::vector<OptionSpec> meshRepairTail()
           seed(0)};
 }
 
+OptionSpec patchDecision()
+{
+  return word("patch-decision", {"measured", "always"}, "measured",
+              "keep the patches only when measured to help, or always (to measure them)");
+}
+
 std::vector<OptionSpec> cloudDenoisingOptions()
 {
   const std::string units = "with --absolute, the cloud's own units";
@@ -238,8 +244,7 @@ std::vector<OptionSpec> cloudDenoisingOptions()
           real("residual-outliers", "F", 4.0, 0.0, 1e6, "points farther than F σ from their patch are removed"),
           flag("no-patches", "the geometric result alone (no patch stage)"),
           flag("self-similar", "patches of a dictionary learned from the input (the default; applied if measured to help)"),
-          word("patch-decision", {"measured", "always"}, "measured",
-               "keep the patches only when measured to help, or always (to measure them)"),
+          patchDecision(),
           text("dict", "DICT.pdd", "code the patches over this dictionary (applied if measured to help)")};
 }
 
@@ -342,11 +347,11 @@ void addRepairCommands(std::vector<CommandSpec>& table)
   table.push_back(
       {"denoise", "", "IN", 1, 1,
        "denoise: Taubin smoothing (iterations by the discrepancy principle); with --dict or --self-similar, "
-       "corrected by patches",
+       "corrected by patches where measured to help",
        std::vector<OptionSpec>{
            required("output", "OUT", "the denoised mesh (vertex order kept: .ply, .obj, .off)"), dictionary(""),
            flag("self-similar", "correct by patches of a dictionary learned from the input"),
-           flag("no-patches", "the Taubin base alone (the default without --dict)"),
+           flag("no-patches", "the Taubin base alone (the default without --dict)"), patchDecision(),
            noise(1.0, "noise σ, unit-cube units"),
            computed(real("noise-edges", "K", 0.0, 0.0, 100.0, "noise σ, in mean edge lengths"), ""),
            integer("base-iterations", "T", -1, -1, 10000, "Taubin iterations").noted("by the discrepancy principle"),

@@ -11,6 +11,7 @@
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/core/vertex_normals.h>
 #include <pcl_patchdict/geometry/taubin_smoothing.h>
+#include <pcl_patchdict/quads/patch_layout.h>
 #include <pcl_patchdict/repair/patch_constrained_solve.h>
 
 #include <Eigen/Dense>
@@ -20,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <random>
 #include <string>
 
 namespace pcl {
@@ -262,6 +264,68 @@ std::vector<Eigen::Vector3d> movePerVertex(const TriangleMesh& work,
   return moved;
 }
 
+/** Stein's unbiased estimate of mean |f − x|² for y = x + σ z n (z standard normal, n the normal):
+  * mean |f − y|² − σ² + 2σ²·div f, div f = (1/n) Σ ∂(n·f_v)/∂(n·y_v). */
+double steinRisk(const std::vector<Eigen::Vector3d>& f, const TriangleMesh& y, double sigma, double divergence)
+{
+  double sum = 0.0;
+  for (std::size_t v = 0; v < f.size(); ++v)
+    sum += (f[v] - y.vertices[v]).squaredNorm();
+  return sum / static_cast<double>(f.size()) - sigma * sigma + 2.0 * sigma * sigma * divergence;
+}
+
+/** The decision of denoiseWithPatches: Stein's risk of base and patch result, their divergences by
+  * one Monte-Carlo probe (Ramani, Blu & Unser 2008): y + h·b·n, b = ±1 per vertex (seeded), h =
+  * probe_step·σ, n the base's normals; the base again at the same iteration count, the patches
+  * again on the same layout (and dictionary, or a self-similar one learned again). Fills the
+  * report's errors; true: keep the patches. */
+bool patchesLowerTheRisk(const TriangleMesh& noisy, const TriangleMesh& base, const std::vector<Eigen::Vector3d>& moved,
+                         const std::shared_ptr<const PatchLayout>& layout, PatchCorrectionParameters parameters,
+                         const DenoiseOptions& p, DenoiseReport& r)
+{
+  const std::size_t n = noisy.numVertices();
+  const double sigma = r.noise_sigma, h = p.probe_step * sigma;
+  if (!(h > 0.0) || n == 0)
+    return false;  // no noise to measure against: nothing to gain
+  const std::vector<Eigen::Vector3d> normals = computeVertexNormals(base);
+  std::mt19937_64 random(p.seed ^ 0x5d0e15ee5eedULL);
+  std::vector<double> sign(n);
+  const auto probed = std::make_shared<TriangleMesh>(noisy);
+  for (std::size_t v = 0; v < n; ++v) {
+    sign[v] = (random() >> 63) ? 1.0 : -1.0;
+    if (normals[v].allFinite())
+      probed->vertices[v] += h * sign[v] * normals[v];
+  }
+  DenoiseOptions fixed = p;
+  fixed.base_iterations = r.base_iterations;
+  DenoiseReport unused;
+  const auto probed_base = std::make_shared<TriangleMesh>(*probed);
+  taubinBase(*probed, fixed, *probed_base, unused);
+  std::vector<std::int32_t> all(n);
+  std::iota(all.begin(), all.end(), 0);
+  PatchCorrectionReport probe_report;
+  parameters.quad_length = layout->quad_length;  // the probed base's edges would give another L
+  // A self-similar dictionary is learned again from the probed input: how much it adapts to the
+  // noise is part of the divergence (kept fixed, the risk came out 30 % low on a small scan).
+  const auto constraints = detail::patchConstraints(probed_base, {}, all, p.dictionary, parameters, probe_report,
+                                                    probed, layout);
+  const std::vector<Eigen::Vector3d> probed_moved = movePerVertex(*probed_base, constraints, p.fidelity, p.num_threads);
+  double base_divergence = 0.0, patch_divergence = 0.0;
+  for (std::size_t v = 0; v < n; ++v) {
+    if (!normals[v].allFinite())
+      continue;
+    base_divergence += sign[v] * normals[v].dot(probed_base->vertices[v] - base.vertices[v]);
+    patch_divergence += sign[v] * normals[v].dot(probed_moved[v] - moved[v]);
+  }
+  base_divergence /= h * static_cast<double>(n);
+  patch_divergence /= h * static_cast<double>(n);
+  const double base_risk = steinRisk(base.vertices, noisy, sigma, base_divergence);
+  const double patch_risk = steinRisk(moved, noisy, sigma, patch_divergence);
+  r.base_error = std::sqrt(std::max(base_risk, 0.0));
+  r.patch_error = std::sqrt(std::max(patch_risk, 0.0));
+  return patch_risk < (1.0 - p.min_risk_reduction) * base_risk;
+}
+
 }  // namespace
 
 void checkDenoiseOptions(const DenoiseOptions& p)
@@ -273,6 +337,11 @@ void checkDenoiseOptions(const DenoiseOptions& p)
   if (p.base_iterations < -1 || p.max_base_iterations < 0)
     throw Error("base iterations must be ≥ 0 (−1: by the discrepancy principle), their maximum ≥ 0");
   detail::checkFinite(p.discrepancy, p.discrepancy > 0.0, "the discrepancy factor must be > 0");
+  if (p.decision == PatchDecision::Never)
+    throw Error("denoising: no patch stage is use_patches = false, not decision Never");
+  detail::checkFinite(p.min_risk_reduction, p.min_risk_reduction >= 0.0 && p.min_risk_reduction < 1.0,
+                      "the risk reduction the patches must bring lies in [0, 1)");
+  detail::checkFinite(p.probe_step, p.probe_step > 0.0, "the probe step must be > 0");
 }
 
 void denoiseWithPatches(const TriangleMesh& input, TriangleMesh& out, const DenoiseOptions& options,
@@ -305,23 +374,36 @@ void denoiseWithPatches(const TriangleMesh& input, TriangleMesh& out, const Deno
   r.moved_vertices = n;
   if (!p.use_patches)
     return;
-  r.used_patches = true;
   t = Clock::now();
   PatchCorrectionParameters patch_parameters = p;
   patch_parameters.error_per_bin = p.error_factor * r.noise_sigma;
+  // One layout of the base, shared by the decision's second run.
+  auto layout = std::make_shared<PatchLayout>();
+  const double quad_length = PatchCorrection::quadLength(*work, patch_parameters);
+  computePatchLayout(*work, PatchCorrection::layoutParameters(patch_parameters, quad_length), *layout);
   const auto constraints =
-      detail::patchConstraints(work, {}, all, p.dictionary, patch_parameters, r.patches, noisy);
+      detail::patchConstraints(work, {}, all, p.dictionary, patch_parameters, r.patches, noisy, layout);
   r.seconds_patch_stage = secondsSince(t);
-
   t = Clock::now();
   const std::vector<Eigen::Vector3d> moved = movePerVertex(*work, constraints, p.fidelity, p.num_threads);
+  r.seconds_solve = secondsSince(t);
+  if (p.decision == PatchDecision::Auto) {
+    t = Clock::now();
+    const bool keep = patchesLowerTheRisk(*noisy, *work, moved, layout, patch_parameters, p, r);
+    r.seconds_decision = secondsSince(t);
+    r.patch_decision = keep ? "kept" : "declined";
+    if (!keep)
+      return;
+  } else {
+    r.patch_decision = "always";
+  }
+  r.used_patches = true;
   double sum = 0.0;
   for (std::size_t v = 0; v < n; ++v) {
     sum += (moved[v] - work->vertices[v]).norm();
     out.vertices[v] = normalization.invert(moved[v]);
   }
   r.mean_correction = n ? sum / static_cast<double>(n) : 0.0;
-  r.seconds_solve = secondsSince(t);
 }
 
 double estimateNoiseSigma(const TriangleMesh& mesh)

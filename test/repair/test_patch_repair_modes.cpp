@@ -3,6 +3,7 @@
 #include <pcl_patchdict/geometry/hole_filling.h>
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/geometry/metrics.h>
+#include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/eval/shapes.h>
 #include <pcl_patchdict/repair/patch_repairs.h>
 
@@ -209,12 +210,14 @@ TEST(PatchRepairModes, DenoisingWithPatchesIsDeterministicAndStaysNearTheSurface
 {
   const TriangleMesh noisy = noisySphere(4, 0.5 * makeIcosphere(4).meanEdgeLength(), 7);
   DenoiseOptions options;
+  options.decision = PatchDecision::Always;  // the patch stage itself, unmeasured
   TriangleMesh first, second;
   DenoiseReport report;
   denoiseWithPatches(noisy, first, options, &report);
   options.num_threads = 1;
   denoiseWithPatches(noisy, second, options);
   EXPECT_TRUE(report.used_patches);
+  EXPECT_EQ(report.patch_decision, "always");
   EXPECT_GT(report.patches.constrained_vertices, noisy.numVertices() * 9 / 10);
   ASSERT_EQ(first.numVertices(), second.numVertices());
   for (std::size_t v = 0; v < first.numVertices(); ++v)
@@ -246,7 +249,8 @@ TEST(PatchRepairModes, BadParametersAndInputsAreErrors)
   const std::vector<std::function<void(DenoiseOptions&)>> bad_values = {
       [](auto& p) { p.fidelity = 0.0; },          [](auto& p) { p.error_factor = -1.0; },
       [](auto& p) { p.discrepancy = std::nan(""); }, [](auto& p) { p.base_iterations = -2; },
-      [](auto& p) { p.grid_size = 1; }};
+      [](auto& p) { p.grid_size = 1; },           [](auto& p) { p.min_risk_reduction = 1.0; },
+      [](auto& p) { p.probe_step = 0.0; },        [](auto& p) { p.decision = PatchDecision::Never; }};
   for (std::size_t i = 0; i < bad_values.size(); ++i) {
     DenoiseOptions options;
     options.use_patches = false;
@@ -368,4 +372,48 @@ TEST(PatchRepairModes, ReportWritesPicturesAndAnErrorColouredMesh)
                                  test_support::q(dir.file("report6")) + " --ref " + test_support::q(dir.file("clean.ply")));
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_GT(std::filesystem::file_size(dir.file("report6/closeup.png")), 100u);
+}
+
+namespace {
+
+double vertexRmse(const TriangleMesh& a, const TriangleMesh& b)
+{
+  double sum = 0.0;
+  for (std::size_t v = 0; v < a.numVertices(); ++v)
+    sum += (a.vertices[v] - b.vertices[v]).squaredNorm();
+  return std::sqrt(sum / static_cast<double>(a.numVertices()));
+}
+
+}  // namespace
+
+// The decision: Stein's estimates of both errors, from the noisy input alone, land near the true
+// errors, and the result is whichever is lower — here the base, point for point.
+TEST(PatchRepairModes, DenoisingKeepsThePatchesOnlyWhenTheirEstimatedErrorIsLower)
+{
+  const TriangleMesh clean = makeIcosphere(5);
+  const double sigma = 0.5 * clean.meanEdgeLength();
+  const TriangleMesh noisy = noisySphere(5, sigma, 11);
+  const UnitCubeNormalization unit = UnitCubeNormalization::fromMesh(noisy);
+  DenoiseOptions options;
+  options.noise_sigma = unit.applyLength(sigma);  // σ known: the estimates' own accuracy is tested
+  TriangleMesh measured, always, base;
+  DenoiseReport report, always_report;
+  denoiseWithPatches(noisy, measured, options, &report);
+  options.decision = PatchDecision::Always;
+  denoiseWithPatches(noisy, always, options, &always_report);
+  options.use_patches = false;
+  denoiseWithPatches(noisy, base, options);
+
+  const double base_error = unit.applyLength(vertexRmse(base, clean));
+  const double patch_error = unit.applyLength(vertexRmse(always, clean));
+  RecordProperty("base_error", std::to_string(base_error) + " estimated " + std::to_string(report.base_error));
+  RecordProperty("patch_error", std::to_string(patch_error) + " estimated " + std::to_string(report.patch_error));
+  EXPECT_NEAR(report.base_error / base_error, 1.0, 0.15);
+  EXPECT_NEAR(report.patch_error / patch_error, 1.0, 0.15);
+  EXPECT_EQ(report.patch_decision, patch_error < base_error ? "kept" : "declined");
+  EXPECT_EQ(report.used_patches, report.patch_decision == "kept");
+  const TriangleMesh& chosen = report.used_patches ? always : base;
+  for (std::size_t v = 0; v < clean.numVertices(); ++v)
+    ASSERT_EQ(measured.vertices[v], chosen.vertices[v]) << v;
+  EXPECT_GT(report.seconds_decision, 0.0);
 }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <pcl_patchdict/coding/patch_dictionary.h>
+#include <pcl_patchdict/repair/patch_decision.h>
 
 #include <Eigen/Core>
 
@@ -13,10 +14,6 @@
 
 namespace pcl {
 namespace patchdict {
-
-/** Whether the patch stage applies: Auto decides by measurement (the relief check), Always and
-  * Never force it. */
-enum class PatchDecision { Auto, Always, Never };
 
 struct CloudPatchOptions {
   PatchDecision decision = PatchDecision::Auto;

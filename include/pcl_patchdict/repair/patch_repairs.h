@@ -8,8 +8,10 @@
 #include <pcl_patchdict/core/triangle_mesh.h>
 #include <pcl_patchdict/geometry/hole_filling.h>
 #include <pcl_patchdict/repair/patch_correction.h>
+#include <pcl_patchdict/repair/patch_decision.h>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace pcl {
@@ -123,17 +125,35 @@ struct DenoiseOptions : PatchRepairCommon {
   int base_iterations = -1;
   double discrepancy = 0.95;
   int max_base_iterations = 100;
+  /// Auto: the patches go into the result only if their estimated error (Stein's unbiased risk,
+  /// below) is at least min_risk_reduction below the base's; Always: applied unmeasured.
+  /// (Never is use_patches = false.)
+  PatchDecision decision = PatchDecision::Auto;
+  double min_risk_reduction = 0.05;
+  /// The risk's divergence term by one random probe of the input along the normals, this size × σ.
+  double probe_step = 0.25;
 };
 
 struct DenoiseReport : PatchRepairReport {
   double noise_sigma = 0.0;  ///< σ used (normalised units)
   int base_iterations = 0;   ///< Taubin iterations of the base
   bool noise_estimated = false;
+  /// The patch stage's fate: "" (not run), "kept" or "declined" (measured), "always" (forced).
+  /// used_patches is true only when the result holds them.
+  std::string patch_decision;
+  /// Estimated RMS error against the unknown clean surface (normalised units; −1: not measured).
+  double base_error = -1.0, patch_error = -1.0;
+  double seconds_decision = 0.0;  ///< the perturbed second run of base and patches
 };
 
 /** Every patch coded to ε = error_factor × σ (or with `sparsity` atoms); each vertex moves to the
   * weighted least-squares point of its patches' tangent planes with a fidelity term α·Σw·|δ|²
-  * around the Taubin base. `out` keeps vertex count, order and faces; normals dropped. */
+  * around the Taubin base. `out` keeps vertex count, order and faces; normals dropped.
+  * With decision Auto the result keeps the patches only when they are measured to help: for noise
+  * of σ along the normals, Stein's unbiased risk estimate of base and patch result, mean|f − y|² −
+  * σ² + 2σ²·div f, the divergence by a Monte-Carlo probe (Ramani, Blu & Unser, IEEE TIP 2008): the
+  * input moved by ±probe_step·σ along the base's normals, base and patches run again on the same
+  * layout (a self-similar dictionary learned again). */
 void denoiseWithPatches(const TriangleMesh& input, TriangleMesh& out, const DenoiseOptions& options = {},
                         DenoiseReport* report = nullptr);
 
