@@ -56,6 +56,7 @@ struct Row {
   double error = 0.0, second_error = -1.0;  // ×1e-3 of the unit cube
   double seconds = 0.0;
   std::string key{};  ///< name in --json (key_error, key_new_vertices_error, seconds.key)
+  std::string decision{};  ///< a measured patch decision, "kept" or "declined" (--json key_decision)
 };
 
 double secondsOf(const std::function<void()>& work)
@@ -180,11 +181,13 @@ void demoDenoise(Demo& demo)
   demo.rows.push_back(Row{"noise 0.5 edge", "noisy input", 1e3 * vertexRMSE(demo.truth, noisy), -1.0, 0.0, "noisy"});
   for (bool patches : {false, true}) {
     TriangleMesh denoised;
-    Row row{"noise 0.5 edge", patches ? "Taubin + self-similar patches" : "Taubin (discrepancy)"};
+    Row row{"noise 0.5 edge", patches ? "Taubin + patches" : "Taubin (discrepancy)"};
     const DenoiseReport report = timedRepair<DenoiseOptions, DenoiseReport>(
         patches, row, [&](const auto& options, auto& report) { denoiseWithPatches(noisy, denoised, options, &report); });
-    if (patches)  // the patches go in only when measured to help: the row says what was decided
-      row.method += report.used_patches ? " (kept)" : " (declined)";
+    if (patches) {  // the patches go in only when measured to help: the row says what was decided
+      row.decision = report.patch_decision;
+      row.method += " (" + row.decision + ")";
+    }
     row.error = 1e3 * vertexRMSE(demo.truth, denoised);
     row.key = patches ? "denoise_patches" : "denoise_taubin";
     demo.rows.push_back(row);
@@ -205,6 +208,8 @@ void printDemo(const Demo& demo, bool json_output, const StageTimer& timer)
       json.add(row.key + "_error", row.error);
       if (row.second_error >= 0.0)
         json.add(row.key + "_new_vertices_error", row.second_error);
+      if (!row.decision.empty())
+        json.add(row.key + "_decision", row.decision);
     }
     JsonObject seconds = timer.json();
     for (const Row& row : demo.rows)

@@ -114,8 +114,10 @@ Result denoiseCase(const TriangleMesh& truth, const TriangleMesh& noisy, bool pa
                    const PatchDictionary::ConstPtr& dictionary)
 {
   TriangleMesh out;
+  DenoiseOptions options;
+  options.decision = PatchDecision::Always;  // the patches' own effect (the tool declines them when measured worse)
   Result r = timedRepair<DenoiseOptions, DenoiseReport>(
-      {}, patches, dictionary,
+      options, patches, dictionary,
       [&](const DenoiseOptions& o, DenoiseReport& report) { denoiseWithPatches(noisy, out, o, &report); });
   r.error = 1e3 * vertexRMSE(truth, out);
   return r;

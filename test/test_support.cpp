@@ -83,6 +83,16 @@ double jsonNumber(const std::string& json, const std::string& key)
   return end == start ? std::nan("") : value;
 }
 
+std::string jsonString(const std::string& json, const std::string& key)
+{
+  const std::string marker = "\"" + key + "\": \"";
+  const std::size_t start = json.find(marker);
+  if (start == std::string::npos)
+    return "";
+  const std::size_t begin = start + marker.size();
+  return json.substr(begin, json.find('"', begin) - begin);
+}
+
 bool isOneLine(const std::string& text)
 {
   return !text.empty() && std::count(text.begin(), text.end(), '\n') == 1 && text.back() == '\n';

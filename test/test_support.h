@@ -41,6 +41,8 @@ void writeFile(const std::string& path, const std::string& bytes);
 
 /** The number after "key": in a flat part of a JSON object (NaN if absent or null). */
 double jsonNumber(const std::string& json, const std::string& key);
+/** The string after "key": in a flat part of a JSON object ("" if absent). */
+std::string jsonString(const std::string& json, const std::string& key);
 /** Exactly one line, ending in a newline. */
 bool isOneLine(const std::string& text);
 /** Progress lines may precede it, but an error is exactly one line, the last, saying "error:". */

@@ -21,6 +21,7 @@ using test_support::runTool;
 using test_support::endsWithOneErrorLine;
 using test_support::isOneLine;
 using test_support::jsonNumber;
+using test_support::jsonString;
 using test_support::q;
 
 TEST(Cli, HelpListsTheCommands)
@@ -208,7 +209,14 @@ TEST(Cli, DemoRepairsTheBundledMeshWithAndWithoutPatches)
   const double noisy = jsonNumber(result.out, "noisy_error");
   EXPECT_NEAR(noisy / edge_1e3, 0.5, 0.03);  // σ = 0.5 × mean edge along the normals
   EXPECT_LT(jsonNumber(result.out, "denoise_taubin_error"), 0.6 * noisy);
-  EXPECT_LT(jsonNumber(result.out, "denoise_patches_error"), 1.5 * jsonNumber(result.out, "denoise_taubin_error"));
+  // The patches go in only when Stein's estimate says they help; at this noise on the bunny they
+  // do not (applied regardless: 2.55), so the row is the base's, and says so.
+  const std::string decision = jsonString(result.out, "denoise_patches_decision");
+  EXPECT_EQ(decision, "declined");
+  if (decision == "declined") {
+    EXPECT_EQ(jsonNumber(result.out, "denoise_patches_error"), jsonNumber(result.out, "denoise_taubin_error"));
+  }
+  EXPECT_LE(jsonNumber(result.out, "denoise_patches_error"), jsonNumber(result.out, "denoise_taubin_error"));
   for (const char* name : {"truth.ply", "missing_patches.ply", "holes_liepa.ply", "holes_patches.ply",
                            "denoise_taubin.ply"})
     EXPECT_TRUE(std::filesystem::exists(dir.file("demo/" + std::string(name)))) << name;

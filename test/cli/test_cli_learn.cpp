@@ -15,6 +15,7 @@
 using namespace pcl::patchdict;
 using test_support::endsWithOneErrorLine;
 using test_support::jsonNumber;
+using test_support::jsonString;
 using test_support::q;
 using test_support::readFile;
 using test_support::runTool;
@@ -45,16 +46,6 @@ void writePatchSet(const std::string& path, std::uint64_t seed, int count = 300)
       }
   }
   set.save(path);
-}
-
-std::string jsonString(const std::string& json, const std::string& key)
-{
-  const std::string marker = "\"" + key + "\": \"";
-  const std::size_t start = json.find(marker);
-  if (start == std::string::npos)
-    return "";
-  const std::size_t begin = start + marker.size();
-  return json.substr(begin, json.find('"', begin) - begin);
 }
 
 const char* kOnline = " --method online --atoms 12 --sparsity 4 --batch 32 --json";
