@@ -304,6 +304,75 @@ TEST(HeightMapsCloud, BinValueIsTheMeanHeightOfItsPoints)
       EXPECT_NEAR(set.heights(j * grid + i, 0), 0.05 * binCentre(i, grid, radius), 1e-15);
 }
 
+// The binned heights against a brute force over every point (the cells must miss none and take
+// none too many): random points in a thick slab plus a far cluster (so the cells are coarsened to
+// their budget), random seeds and tilted frames, the paper's bins and biweights of reach 1 and 1.7.
+TEST(HeightMapsCloud, BinnedHeightsEqualABruteForceOverEveryPoint)
+{
+  std::mt19937_64 random(21);
+  std::uniform_real_distribution<double> unit(0.0, 1.0), angle(-1.0, 1.0);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 20000; ++i)
+    points.emplace_back(unit(random), unit(random), 0.2 * unit(random));
+  std::vector<Eigen::Vector3d> with_far_cluster = points;
+  for (int i = 0; i < 50; ++i)
+    with_far_cluster.emplace_back(300.0 + unit(random), -200.0 + unit(random), 50.0);
+  std::vector<Eigen::Vector3d> seeds;
+  std::vector<Eigen::Matrix3d> frames;
+  for (int k = 0; k < 60; ++k) {
+    seeds.emplace_back(unit(random), unit(random), 0.2 * unit(random));
+    frames.push_back(roundToSinglePrecision((Eigen::AngleAxisd(angle(random) * 3.0, Eigen::Vector3d::UnitZ()) *
+                                             Eigen::AngleAxisd(angle(random), Eigen::Vector3d::UnitX()))
+                                                .toRotationMatrix()
+                                                .transpose()));
+  }
+  const double radius = 0.08;
+  const int n = 12;
+  const double side = std::sqrt(2.0) * radius, bin = side / n;
+  for (const auto* cloud : {&points, &with_far_cluster}) {
+    for (double reach : {0.0, 1.0, 1.7}) {
+      HeightMapParameters parameters{radius, n, 2};
+      parameters.bin_reach = reach;
+      PatchSet set;
+      extractCloudHeightMaps(*cloud, seeds, frames, parameters, set);
+      std::size_t observed = 0;
+      for (std::size_t p = 0; p < seeds.size(); ++p) {
+        std::vector<double> sums(n * n, 0.0), weights(n * n, 0.0);
+        for (const auto& point : *cloud) {
+          const Eigen::Vector3d local = frames[p] * (point - seeds[p]);
+          if (local.norm() > radius)
+            continue;
+          for (int v = 0; v < n; ++v)
+            for (int u = 0; u < n; ++u) {
+              const double cx = (u + 0.5) * bin - side / 2.0, cy = (v + 0.5) * bin - side / 2.0;
+              double w = 0.0;
+              if (reach == 0.0) {
+                w = std::abs(local.x() - cx) < bin / 2.0 && std::abs(local.y() - cy) < bin / 2.0 ? 1.0 : 0.0;
+              } else {
+                const double d2 = ((local.x() - cx) * (local.x() - cx) + (local.y() - cy) * (local.y() - cy)) /
+                                  (reach * bin * reach * bin);
+                w = d2 < 1.0 ? (1.0 - d2) * (1.0 - d2) : 0.0;
+              }
+              sums[v * n + u] += w * local.z();
+              weights[v * n + u] += w;
+            }
+        }
+        for (int k = 0; k < n * n; ++k) {
+          // A weight within rounding of zero may land on either side: only clear cases are compared.
+          if (weights[k] > 1e-9) {
+            ASSERT_TRUE(set.observed(k, p)) << "reach " << reach << " patch " << p << " bin " << k;
+            EXPECT_NEAR(set.heights(k, p), sums[k] / weights[k], 1e-12) << "reach " << reach;
+            ++observed;
+          } else if (weights[k] == 0.0) {
+            EXPECT_FALSE(set.observed(k, p)) << "reach " << reach << " patch " << p << " bin " << k;
+          }
+        }
+      }
+      EXPECT_GT(observed, seeds.size() * n * n / 2) << "reach " << reach;  // the slab fills most bins
+    }
+  }
+}
+
 TEST(HeightMapsDeterminism, SameResultTwiceAndForAnyThreadCount)
 {
   const auto relief = makeSinusoidalRelief(120, 120, 0.02, 0.3);
