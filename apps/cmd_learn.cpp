@@ -15,6 +15,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <system_error>
+
+#include <unistd.h>
 
 namespace pcl {
 namespace patchdict {
@@ -40,6 +43,52 @@ PatchSet loadInputPatches(const std::string& path, SurfacePatchOptions options, 
                 std::to_string(grid_size));
   return patches;
 }
+
+/** Patches of surface inputs kept on disk after the pass that made them (.pds files in a folder of
+  * the system's temporary directory, removed when the run ends): later passes read them back
+  * instead of running the quad and patch stages again. float64 throughout, so the same patches bit
+  * for bit and the same dictionary. A cache that cannot be written is given up, never the job. */
+class PatchCache {
+public:
+  PatchCache(bool enabled, std::size_t inputs) : enabled_(enabled), stored_(inputs, false) {}
+  PatchCache(const PatchCache&) = delete;
+  PatchCache& operator=(const PatchCache&) = delete;
+  ~PatchCache()
+  {
+    std::error_code ignored;
+    if (!folder_.empty())
+      std::filesystem::remove_all(folder_, ignored);
+  }
+  bool has(std::size_t input) const { return stored_[input]; }
+  PatchSet load(std::size_t input) const { return PatchSet::load(file(input)); }
+  void store(std::size_t input, const PatchSet& patches, bool quiet)
+  {
+    if (!enabled_)
+      return;
+    try {
+      if (folder_.empty()) {
+        folder_ = std::filesystem::temp_directory_path() /
+                  ("pcl_patchdict_learn_" + std::to_string(::getpid()) + "_" +
+                   std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
+        std::filesystem::create_directories(folder_);
+      }
+      patches.save(file(input));
+      stored_[input] = true;
+      bytes_ += std::filesystem::file_size(file(input));
+    } catch (const std::exception& error) {  // a full disk, say: the patches are made again instead
+      enabled_ = false;
+      note(quiet, std::string("  patch cache given up (") + error.what() + "): later passes make the patches again");
+    }
+  }
+  std::uintmax_t bytes() const { return bytes_; }
+
+private:
+  std::string file(std::size_t input) const { return (folder_ / (std::to_string(input) + ".pds")).string(); }
+  bool enabled_;
+  std::vector<bool> stored_;
+  std::filesystem::path folder_;
+  std::uintmax_t bytes_ = 0;
+};
 
 std::string number(double value)
 {
@@ -77,6 +126,9 @@ struct LearnRun {
   int passes = 0;
   std::size_t buffer_capacity = 0, checkpoint_every = 0, stop_after = 0;
   bool skip_bad = false;
+  bool patch_cache = true;        ///< keep surface inputs' patches on disk between passes
+  std::size_t cache_reads = 0;    ///< inputs read back from the cache
+  std::uintmax_t cache_bytes = 0; ///< the cache's size at its largest
   SurfacePatchOptions surface_options;
   int grid_size = 0;  ///< --grid binds .pds inputs too; without it the first input's grid does
   DictionaryLearningOptions options;
@@ -116,7 +168,7 @@ void readLearnLine(const Arguments& args, LearnRun& run)
   // not grow with the number of patches and which can be checkpointed and resumed.
   run.method = args.getWord("method", run.num_inputs == 1 ? "ksvd" : "online");
   run.online = run.method == "online";
-  for (const char* name : {"batch", "buffer", "checkpoint", "checkpoint-every", "resume", "stop-after"})
+  for (const char* name : {"batch", "buffer", "checkpoint", "checkpoint-every", "resume", "stop-after", "no-patch-cache"})
     if (!run.online && args.has(name))
       throw UsageError(std::string("--") + name + " is available with --method online only");
   if (run.online && args.has("remove-mean"))
@@ -138,6 +190,7 @@ void readLearnLine(const Arguments& args, LearnRun& run)
   run.checkpoint_every = static_cast<std::size_t>(args.getInt("checkpoint-every"));
   run.stop_after = static_cast<std::size_t>(args.getInt("stop-after", 0));  // 0: never
   run.skip_bad = args.has("skip-bad");
+  run.patch_cache = !args.has("no-patch-cache");
   run.surface_options.grid_size = static_cast<int>(args.getInt("grid"));
   run.surface_options.quad_length = args.getDouble("quad-length");
   run.surface_options.overlap = static_cast<int>(args.getInt("overlap"));
@@ -223,6 +276,7 @@ void learnOnline(const Arguments& args, LearnRun& run)
 
   const auto started = std::chrono::steady_clock::now();
   std::size_t inputs_this_run = 0, since_checkpoint = 0, streamed_this_run = 0;
+  PatchCache cache(run.patch_cache, run.num_inputs);
   for (int pass = static_cast<int>(progress.pass); pass < run.passes && run.complete; ++pass) {
     for (std::size_t i = progress.next_input; i < run.num_inputs; ++i) {
       if (run.stop_after > 0 && inputs_this_run == run.stop_after) {
@@ -233,7 +287,14 @@ void learnOnline(const Arguments& args, LearnRun& run)
       PatchSet part;
       bool bad = false;
       try {
-        part = loadInputPatches(path, run.surface_options, run.grid_size);
+        if (cache.has(i)) {
+          part = cache.load(i);
+          ++run.cache_reads;
+        } else {
+          part = loadInputPatches(path, run.surface_options, run.grid_size);
+          if (pass + 1 < run.passes && !isPatchSetPath(path) && formatFromPath(path) != MeshFormat::Unknown)
+            cache.store(i, part, run.quiet);
+        }
       } catch (const Error& error) {
         // A bad input fails the same way on every pass: reported once, on the first.
         if (pass == 0 || !run.skip_bad)
@@ -275,6 +336,7 @@ void learnOnline(const Arguments& args, LearnRun& run)
     progress.next_input = 0;
   }
   run.max_buffered = buffer.highWater();
+  run.cache_bytes = cache.bytes();
   run.batches = static_cast<std::size_t>(learner.state().steps);
   if (!run.complete) {
     saveCheckpoint();
@@ -343,6 +405,9 @@ JsonObject learnJson(const LearnRun& run, std::size_t patch_count, double observ
       json.add("resumed_pass", static_cast<std::size_t>(run.resumed_pass))
           .add("resumed_input", static_cast<std::size_t>(run.resumed_input));
     json.add("checkpoints_written", run.checkpoints_written);
+    json.add("patch_cache", JsonObject()
+                                .add("inputs_read_back", run.cache_reads)
+                                .add("bytes", static_cast<std::size_t>(run.cache_bytes)));
     if (!run.checkpoint_path.empty())
       json.add("checkpoint", run.checkpoint_path);
   }

@@ -290,6 +290,8 @@ void addSurfaceCommands(std::vector<CommandSpec>& table)
         grid(16).noted("or the first input's"), quadLength(0.03, "quad edge length of surface inputs, unit-cube units"),
         overlap(1, "4K extra seeds per quad (surface inputs)"),
         flag("skip-bad", "skip unreadable inputs (each named on stderr) instead of failing"),
+        flag("no-patch-cache",
+             "make the patches of surface inputs again on every pass, instead of keeping them in a temporary folder (online)"),
         text("checkpoint", "FILE.pdk", "save the learner's state there (online)"),
         integer("checkpoint-every", "N", 10, 1, 1LL << 40, "inputs between checkpoints (needs --checkpoint)"),
         computed(integer("stop-after", "N", 0, 1, 1LL << 40, "stop after N inputs, resumable (needs --checkpoint)"), ""),

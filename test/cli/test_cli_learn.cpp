@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <random>
 
@@ -134,6 +135,43 @@ TEST(CliLearn, SurfacesGoThroughThePatchStage)
   EXPECT_TRUE(endsWithOneErrorLine(result.err)) << result.err;
   EXPECT_NE(result.err.find("16×16"), std::string::npos) << result.err;
   EXPECT_FALSE(std::filesystem::exists(dir.file("mixed.pdd")));
+}
+
+// Surface inputs are patched once: passes 2 and 3 read their patches back from a temporary folder
+// (float64, so the very same patches), which is gone when the run ends; --no-patch-cache makes
+// them again and must give the same dictionary, byte for byte.
+TEST(CliLearn, LaterPassesReadThePatchesBackAndLearnTheSameDictionary)
+{
+  test_support::TempDir dir;
+  std::filesystem::create_directory(dir.file("shapes"));
+  writeMesh(dir.file("shapes/relief.ply"), makeSinusoidalRelief(40, 40, 0.08, 0.3));
+  writeMesh(dir.file("shapes/torus.obj"), makeTorus(48, 24));
+  writePatchSet(dir.file("shapes/zz.pds"), 3);  // a patch set is read as it is, never cached
+  // The tool's temporary folder, here (TMPDIR, which std::filesystem::temp_directory_path reads).
+  std::filesystem::create_directory(dir.file("tmp"));
+  const char* old_tmpdir = std::getenv("TMPDIR");
+  const std::string saved = old_tmpdir ? old_tmpdir : "";
+  ::setenv("TMPDIR", dir.file("tmp").c_str(), 1);
+  const std::string common = " --grid 8 --quad-length 0.1 --atoms 16 --batch 32 --iterations 3 --json";
+  const auto cached = runTool("learn " + q(dir.file("shapes")) + " -o " + q(dir.file("cached.pdd")) + common);
+  ASSERT_EQ(cached.exit_code, 0) << cached.err;
+  EXPECT_EQ(jsonNumber(cached.out, "inputs_read_back"), 4.0);  // 2 surfaces × passes 2 and 3
+  EXPECT_GT(jsonNumber(cached.out, "bytes"), 1000.0);
+  const auto again = runTool("learn " + q(dir.file("shapes")) + " -o " + q(dir.file("again.pdd")) + common +
+                             " --no-patch-cache");
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(jsonNumber(again.out, "inputs_read_back"), 0.0);
+  EXPECT_EQ(readFile(dir.file("cached.pdd")), readFile(dir.file("again.pdd")));
+  EXPECT_TRUE(std::filesystem::is_empty(dir.file("tmp")));  // the cache went with the run
+  if (old_tmpdir)
+    ::setenv("TMPDIR", saved.c_str(), 1);
+  else
+    ::unsetenv("TMPDIR");
+  // K-SVD holds every patch in memory: the option is refused there.
+  const auto ksvd = runTool("learn " + q(dir.file("shapes/relief.ply")) + " -o " + q(dir.file("k.pdd")) +
+                            " --no-patch-cache --quiet");
+  EXPECT_EQ(ksvd.exit_code, 2);
+  EXPECT_TRUE(test_support::isOneLine(ksvd.err)) << ksvd.err;
 }
 
 TEST(CliLearn, ResumedRunIsByteIdenticalToAnUninterruptedOne)
