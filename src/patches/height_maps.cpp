@@ -4,9 +4,6 @@
 #include <pcl_patchdict/patches/height_maps.h>
 
 #include "patches/point_cells.h"
-#include "pcl/point_conversion.h"
-
-#include <pcl/kdtree/kdtree_flann.h>
 
 #include <omp.h>
 
@@ -45,23 +42,6 @@ Grid makeGrid(int grid_size, double radius)
   grid.bin = grid.side / grid_size;
   grid.half = 0.5 * grid.side;
   return grid;
-}
-
-// The kd-trees hold float coordinates; widening the query by a few float ulps of the coordinates
-// makes sure no point within the exact (double) radius is missed. The exact test follows.
-double floatSafeRadius(double radius, double coordinate_scale)
-{
-  return radius * (1.0 + 1e-5) + 1e-6 * coordinate_scale;
-}
-
-double coordinateScale(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& seeds)
-{
-  double scale = 1.0;
-  for (const auto& p : points)
-    scale = std::max(scale, p.cwiseAbs().maxCoeff());
-  for (const auto& s : seeds)
-    scale = std::max(scale, s.cwiseAbs().maxCoeff());
-  return scale;
 }
 
 int threadCount(int requested) { return requested > 0 ? requested : omp_get_max_threads(); }
@@ -218,8 +198,7 @@ void meshHeights(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& s
   const auto& vertices = mesh.vertices;
   const auto& faces = mesh.faces;
 
-  pcl::PointCloud<pcl::PointXYZ>::Ptr centroids(new pcl::PointCloud<pcl::PointXYZ>);
-  centroids->resize(faces.size());
+  std::vector<Eigen::Vector3d> centroids(faces.size());
   // Any point of a triangle is within `reach` of its centroid (convexity: the farthest point is a
   // vertex). The circumradius would not do: for an obtuse triangle it can be smaller than that.
   double reach = 0.0;
@@ -228,34 +207,39 @@ void meshHeights(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& s
     const Eigen::Vector3d& b = vertices[faces[f][1]];
     const Eigen::Vector3d& c = vertices[faces[f][2]];
     const Eigen::Vector3d centroid = (a + b + c) / 3.0;
-    (*centroids)[f] = detail::toPointXYZ(centroid);
+    centroids[f] = centroid;
     reach = std::max({reach, (a - centroid).norm(), (b - centroid).norm(), (c - centroid).norm()});
   }
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree(false);
-  tree.setInputCloud(centroids);
   // A surface point counted by the patch is within r of the seed (the r-neighbourhood of section
-  // 3.1), so the triangle holding it has its centroid within r + reach.
-  const double query_radius = floatSafeRadius(radius + reach, coordinateScale(vertices, seeds));
+  // 3.1), so the triangle holding it has its centroid within r + reach. Centroids in cells, as the
+  // cloud's points are (no kd-tree; the visiting order does not matter, see the rule below).
+  const double query_radius = (radius + reach) * (1.0 + 1e-9);
+  const detail::PointCells cells(centroids, 0.5 * query_radius);
   const double radius_squared = radius * radius;
   const int n = grid_size;
 
 #pragma omp parallel num_threads(threadCount(parameters.num_threads))
   {
-    std::vector<int> neighbours;
-    std::vector<float> distances;
+    std::vector<std::uint32_t> neighbours;
     std::vector<double> best_abs(static_cast<std::size_t>(n) * n);
     std::vector<int> best_face(static_cast<std::size_t>(n) * n);
 #pragma omp for schedule(dynamic, 8)
     for (std::ptrdiff_t p = 0; p < static_cast<std::ptrdiff_t>(seeds.size()); ++p) {
-      const Eigen::Vector3d& seed = seeds[static_cast<std::size_t>(p)];
-      const Eigen::Matrix3d& rotation = frames[static_cast<std::size_t>(p)];
-      // The (unsorted) search order does not matter: a bin keeps the candidate nearest the plane,
-      // and of equal ones the lowest face index (rule below).
-      tree.radiusSearch(detail::toPointXYZ(seed), query_radius, neighbours, distances, 0);
+      // Copies: the heights written below are doubles that could otherwise alias them.
+      const Eigen::Vector3d seed = seeds[static_cast<std::size_t>(p)];
+      const Eigen::Matrix3d rotation = frames[static_cast<std::size_t>(p)];
+      // The search order does not matter: a bin keeps the candidate nearest the plane, and of
+      // equal ones the lowest face index (rule below).
+      neighbours.clear();
+      cells.forEachNear(seed, query_radius, [&](const Eigen::Vector3d& centroid, std::uint32_t f) {
+        if ((centroid - seed).squaredNorm() <= query_radius * query_radius)
+          neighbours.push_back(f);
+      });
       std::fill(best_abs.begin(), best_abs.end(), std::numeric_limits<double>::infinity());
       auto heights = out.heights.col(p);
       auto observed = out.observed.col(p);
-      for (const int f : neighbours) {
+      for (const std::uint32_t face_index : neighbours) {
+        const int f = static_cast<int>(face_index);
         const Face& face = faces[static_cast<std::size_t>(f)];
         const Eigen::Vector3d a = rotation * (vertices[face[0]] - seed);
         const Eigen::Vector3d b = rotation * (vertices[face[1]] - seed);
@@ -341,7 +325,7 @@ void cloudHeights(const std::vector<Eigen::Vector3d>& points, const std::vector<
       const Eigen::Matrix3d rotation = frames[static_cast<std::size_t>(p)];
       const double reach = parameters.bin_reach, half = grid.half;
       bins.clear();
-      cells.forEachNear(seed, query_radius, [=, &bins](const Eigen::Vector3d& point) {
+      cells.forEachNear(seed, query_radius, [=, &bins](const Eigen::Vector3d& point, std::uint32_t) {
         const Eigen::Vector3d offset = point - seed;
         if (offset.squaredNorm() > query_radius * query_radius)
           return;

@@ -53,8 +53,12 @@ PointCells::PointCells(const std::vector<Eigen::Vector3d>& points, double cell)
     start_[k + 1] += start_[k];
   std::vector<std::uint32_t> next(start_.begin(), start_.end() - 1);
   sorted_.resize(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i)
-    sorted_[next[cell_of[i]]++] = points[i];
+  index_.resize(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const std::uint32_t at = next[cell_of[i]]++;
+    sorted_[at] = points[i];
+    index_[at] = static_cast<std::uint32_t>(i);
+  }
 }
 
 }  // namespace detail

@@ -18,7 +18,7 @@ public:
     * about 8 cells a point). Within a cell the points keep their index order. */
   PointCells(const std::vector<Eigen::Vector3d>& points, double cell);
 
-  /** Calls visit(position) for every point of the cells that may hold a point within r of
+  /** Calls visit(position, index) for every point of the cells that may hold a point within r of
     * centre (in each row of cells along x, those the ball's chord over the row can reach), in the
     * cells' order (z, y, x) and index order within a cell: the same order whatever the thread or
     * the caller. Points outside the ball are the caller's to skip. */
@@ -46,7 +46,7 @@ public:
         const std::uint32_t begin = start_[row + static_cast<std::size_t>(x0)];
         const std::uint32_t end = start_[row + static_cast<std::size_t>(x1) + 1];
         for (std::uint32_t i = begin; i < end; ++i)
-          visit(sorted_[i]);
+          visit(sorted_[i], index_[i]);
       }
     }
   }
@@ -74,6 +74,7 @@ private:
   int dims_[3] = {1, 1, 1};
   std::vector<std::uint32_t> start_;     ///< per cell (x fastest), its first point in sorted_; one more at the end
   std::vector<Eigen::Vector3d> sorted_;  ///< the points in cell order
+  std::vector<std::uint32_t> index_;     ///< their indices in the input
 };
 
 }  // namespace detail
