@@ -5,6 +5,8 @@
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/coding/sparse_coding.h>
 
+#include "coding/correlations.h"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -215,7 +217,7 @@ SparseCodes batchOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& g
   Eigen::MatrixXd correlations;
   for (Eigen::Index start = 0; start < count; start += block) {
     const Eigen::Index size = std::min(block, count - start);
-    correlations.noalias() = dictionary.transpose() * signals.middleCols(start, size);
+    detail::computeCorrelations(dictionary, signals.middleCols(start, size), correlations);
 #pragma omp parallel
     {
       Workspace work;
