@@ -176,13 +176,35 @@ SparseCodes assemble(Eigen::Index num_atoms, const std::vector<std::vector<int>>
     nonzeros += list.size();
   SparseCodes codes(num_atoms, static_cast<Eigen::Index>(atoms.size()));
   codes.reserve(static_cast<Eigen::Index>(nonzeros));
+  std::vector<int> order;  // one buffer for every signal: no allocation per code
   for (std::size_t p = 0; p < atoms.size(); ++p) {
-    std::vector<int> order(atoms[p].size());
+    order.resize(atoms[p].size());
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(), [&](int a, int b) { return atoms[p][a] < atoms[p][b]; });
     codes.startVec(static_cast<Eigen::Index>(p));
     for (const int i : order)
       codes.insertBack(atoms[p][i], static_cast<Eigen::Index>(p)) = coefficients[p][i];
+  }
+  codes.finalize();
+  return codes;
+}
+
+/** The same from flat lists: signal p's atoms and coefficients at p × stride, counts[p] of them. */
+SparseCodes assembleFlat(Eigen::Index num_atoms, std::size_t stride, const std::vector<int>& counts,
+                         const std::vector<int>& atoms, const std::vector<double>& coefficients)
+{
+  const std::size_t nonzeros = std::accumulate(counts.begin(), counts.end(), std::size_t{0});
+  SparseCodes codes(num_atoms, static_cast<Eigen::Index>(counts.size()));
+  codes.reserve(static_cast<Eigen::Index>(nonzeros));
+  std::vector<int> order;
+  for (std::size_t p = 0; p < counts.size(); ++p) {
+    const int* list = atoms.data() + p * stride;
+    order.resize(static_cast<std::size_t>(counts[p]));
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return list[a] < list[b]; });
+    codes.startVec(static_cast<Eigen::Index>(p));
+    for (const int i : order)
+      codes.insertBack(list[i], static_cast<Eigen::Index>(p)) = coefficients[p * stride + static_cast<std::size_t>(i)];
   }
   codes.finalize();
   return codes;
@@ -210,10 +232,14 @@ SparseCodes batchOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& g
   if (gram.rows() != dictionary.cols() || gram.cols() != dictionary.cols())
     throw Error("sparse coding: the Gram matrix does not match the dictionary");
   const Eigen::Index count = signals.cols();
-  std::vector<std::vector<int>> atoms(static_cast<std::size_t>(count));
-  std::vector<std::vector<double>> coefficients(static_cast<std::size_t>(count));
-  // Correlations Dᵀx in blocks: one GEMM per block instead of one GEMV per signal.
-  constexpr Eigen::Index block = 1024;
+  // Codes in flat lists (at most `stride` atoms a signal): no allocation per signal.
+  const std::size_t stride = static_cast<std::size_t>(std::max(0, std::min<int>(parameters.max_atoms,
+                                                                                 static_cast<int>(dictionary.cols()))));
+  std::vector<int> counts(static_cast<std::size_t>(count), 0), atoms(static_cast<std::size_t>(count) * stride);
+  std::vector<double> coefficients(atoms.size());
+  // Correlations Dᵀx in blocks: one product per block instead of one per signal; 256 signals keep
+  // the block small enough to stay in cache (and a first call's fresh pages few).
+  constexpr Eigen::Index block = 256;
   Eigen::MatrixXd correlations;
   for (Eigen::Index start = 0; start < count; start += block) {
     const Eigen::Index size = std::min(block, count - start);
@@ -222,15 +248,21 @@ SparseCodes batchOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& g
     {
       Workspace work;
       FullGram access{gram};
+      std::vector<int> chosen;
+      std::vector<double> values;
 #pragma omp for schedule(dynamic, 16)
       for (Eigen::Index i = 0; i < size; ++i) {
         const Eigen::Index p = start + i;
         ompKernel(access, correlations.col(i), signals.col(p).squaredNorm(), signals.rows(), parameters, nullptr, work,
-                  atoms[static_cast<std::size_t>(p)], coefficients[static_cast<std::size_t>(p)]);
+                  chosen, values);
+        const std::size_t at = static_cast<std::size_t>(p) * stride;
+        std::copy(chosen.begin(), chosen.end(), atoms.begin() + static_cast<std::ptrdiff_t>(at));
+        std::copy(values.begin(), values.end(), coefficients.begin() + static_cast<std::ptrdiff_t>(at));
+        counts[static_cast<std::size_t>(p)] = static_cast<int>(chosen.size());
       }
     }
   }
-  return assemble(dictionary.cols(), atoms, coefficients);
+  return assembleFlat(dictionary.cols(), stride, counts, atoms, coefficients);
 }
 
 namespace {
