@@ -168,47 +168,44 @@ void checkParameters(const SparseCodingParameters& parameters)
     throw Error("sparse coding: the error target must be a non-negative number");
 }
 
-SparseCodes assemble(Eigen::Index num_atoms, const std::vector<std::vector<int>>& atoms,
-                     const std::vector<std::vector<double>>& coefficients)
-{
-  std::size_t nonzeros = 0;
-  for (const auto& list : atoms)
-    nonzeros += list.size();
-  SparseCodes codes(num_atoms, static_cast<Eigen::Index>(atoms.size()));
-  codes.reserve(static_cast<Eigen::Index>(nonzeros));
-  std::vector<int> order;  // one buffer for every signal: no allocation per code
-  for (std::size_t p = 0; p < atoms.size(); ++p) {
-    order.resize(atoms[p].size());
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return atoms[p][a] < atoms[p][b]; });
-    codes.startVec(static_cast<Eigen::Index>(p));
-    for (const int i : order)
-      codes.insertBack(atoms[p][i], static_cast<Eigen::Index>(p)) = coefficients[p][i];
+/** Per signal its chosen atoms and their coefficients, in flat lists (signal p's at p × stride,
+  * counts[p] of them): no allocation per signal. Threads write disjoint signals. */
+struct CodeLists {
+  CodeLists(Eigen::Index signals, Eigen::Index num_atoms, int max_atoms)
+      : stride(static_cast<std::size_t>(std::max(0, std::min<int>(max_atoms, static_cast<int>(num_atoms))))),
+        counts(static_cast<std::size_t>(signals), 0), atoms(static_cast<std::size_t>(signals) * stride),
+        coefficients(atoms.size())
+  {
   }
-  codes.finalize();
-  return codes;
-}
-
-/** The same from flat lists: signal p's atoms and coefficients at p × stride, counts[p] of them. */
-SparseCodes assembleFlat(Eigen::Index num_atoms, std::size_t stride, const std::vector<int>& counts,
-                         const std::vector<int>& atoms, const std::vector<double>& coefficients)
-{
-  const std::size_t nonzeros = std::accumulate(counts.begin(), counts.end(), std::size_t{0});
-  SparseCodes codes(num_atoms, static_cast<Eigen::Index>(counts.size()));
-  codes.reserve(static_cast<Eigen::Index>(nonzeros));
-  std::vector<int> order;
-  for (std::size_t p = 0; p < counts.size(); ++p) {
-    const int* list = atoms.data() + p * stride;
-    order.resize(static_cast<std::size_t>(counts[p]));
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return list[a] < list[b]; });
-    codes.startVec(static_cast<Eigen::Index>(p));
-    for (const int i : order)
-      codes.insertBack(list[i], static_cast<Eigen::Index>(p)) = coefficients[p * stride + static_cast<std::size_t>(i)];
+  void set(Eigen::Index p, const std::vector<int>& chosen, const std::vector<double>& values)
+  {
+    const auto at = static_cast<std::ptrdiff_t>(static_cast<std::size_t>(p) * stride);
+    std::copy(chosen.begin(), chosen.end(), atoms.begin() + at);
+    std::copy(values.begin(), values.end(), coefficients.begin() + at);
+    counts[static_cast<std::size_t>(p)] = static_cast<int>(chosen.size());
   }
-  codes.finalize();
-  return codes;
-}
+  /** The codes as a K × P sparse matrix, atoms in increasing order within a column. */
+  SparseCodes assemble(Eigen::Index num_atoms) const
+  {
+    SparseCodes codes(num_atoms, static_cast<Eigen::Index>(counts.size()));
+    codes.reserve(static_cast<Eigen::Index>(std::accumulate(counts.begin(), counts.end(), std::size_t{0})));
+    std::vector<int> order;
+    for (std::size_t p = 0; p < counts.size(); ++p) {
+      const int* list = atoms.data() + p * stride;
+      order.resize(static_cast<std::size_t>(counts[p]));
+      std::iota(order.begin(), order.end(), 0);
+      std::sort(order.begin(), order.end(), [&](int a, int b) { return list[a] < list[b]; });
+      codes.startVec(static_cast<Eigen::Index>(p));
+      for (const int i : order)
+        codes.insertBack(list[i], static_cast<Eigen::Index>(p)) = coefficients[p * stride + static_cast<std::size_t>(i)];
+    }
+    codes.finalize();
+    return codes;
+  }
+  std::size_t stride;
+  std::vector<int> counts, atoms;
+  std::vector<double> coefficients;
+};
 
 }  // namespace
 
@@ -232,11 +229,7 @@ SparseCodes batchOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& g
   if (gram.rows() != dictionary.cols() || gram.cols() != dictionary.cols())
     throw Error("sparse coding: the Gram matrix does not match the dictionary");
   const Eigen::Index count = signals.cols();
-  // Codes in flat lists (at most `stride` atoms a signal): no allocation per signal.
-  const std::size_t stride = static_cast<std::size_t>(std::max(0, std::min<int>(parameters.max_atoms,
-                                                                                 static_cast<int>(dictionary.cols()))));
-  std::vector<int> counts(static_cast<std::size_t>(count), 0), atoms(static_cast<std::size_t>(count) * stride);
-  std::vector<double> coefficients(atoms.size());
+  CodeLists codes(count, dictionary.cols(), parameters.max_atoms);
   // Correlations Dᵀx in blocks: one product per block instead of one per signal; 256 signals keep
   // the block small enough to stay in cache (and a first call's fresh pages few).
   constexpr Eigen::Index block = 256;
@@ -255,25 +248,16 @@ SparseCodes batchOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& g
         const Eigen::Index p = start + i;
         ompKernel(access, correlations.col(i), signals.col(p).squaredNorm(), signals.rows(), parameters, nullptr, work,
                   chosen, values);
-        const std::size_t at = static_cast<std::size_t>(p) * stride;
-        std::copy(chosen.begin(), chosen.end(), atoms.begin() + static_cast<std::ptrdiff_t>(at));
-        std::copy(values.begin(), values.end(), coefficients.begin() + static_cast<std::ptrdiff_t>(at));
-        counts[static_cast<std::size_t>(p)] = static_cast<int>(chosen.size());
+        codes.set(p, chosen, values);
       }
     }
   }
-  return assembleFlat(dictionary.cols(), stride, counts, atoms, coefficients);
+  return codes.assemble(dictionary.cols());
 }
 
 namespace {
 
 using Mask = Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>;
-
-/** Per signal: its chosen atoms and their coefficients. */
-struct CodeLists {
-  std::vector<std::vector<int>> atoms;
-  std::vector<std::vector<double>> coefficients;
-};
 
 /** Signals that share a mask with enough others (`threshold`) share one normalised masked Gram
   * matrix: groups of such signals by mask, and the others ("singles") in index order. */
@@ -309,6 +293,8 @@ void codeSharedMasks(const Eigen::MatrixXd& dictionary_t, const Eigen::MatrixXd&
     Eigen::MatrixXd masked_t, gram;
     Eigen::VectorXd observed, correlations, norms, inverse(num_atoms);
     std::vector<char> usable;
+    std::vector<int> chosen;
+    std::vector<double> values;
 #pragma omp for schedule(dynamic, 1)
     for (std::ptrdiff_t g = 0; g < static_cast<std::ptrdiff_t>(shared_groups.size()); ++g) {
       const auto& list = *shared_groups[static_cast<std::size_t>(g)];
@@ -339,12 +325,11 @@ void codeSharedMasks(const Eigen::MatrixXd& dictionary_t, const Eigen::MatrixXd&
           observed[i] = signals(rows[i], p);
         correlations.noalias() = masked_t * observed;
         correlations = correlations.cwiseProduct(inverse);
-        auto& chosen = codes.atoms[static_cast<std::size_t>(p)];
-        auto& values = codes.coefficients[static_cast<std::size_t>(p)];
         ompKernel(access, correlations, observed.squaredNorm(), observed_count, parameters, &usable, work, chosen,
                   values);
         for (std::size_t i = 0; i < chosen.size(); ++i)  // back to the un-normalised atoms
           values[i] *= inverse[chosen[i]];
+        codes.set(p, chosen, values);
       }
     }
   }
@@ -378,6 +363,8 @@ void codeSingleMasks(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& d
       Eigen::VectorXd inverse(num_atoms), observed, alpha0;
       std::vector<char> usable(static_cast<std::size_t>(num_atoms));
       std::vector<Eigen::Index> hidden;
+      std::vector<int> chosen;
+      std::vector<double> values;
 #pragma omp for schedule(dynamic, 16)
       for (Eigen::Index i = 0; i < size; ++i) {
         const Eigen::Index p = singles[start + static_cast<std::size_t>(i)];
@@ -393,12 +380,11 @@ void codeSingleMasks(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& d
             hidden.push_back(r);
         alpha0 = correlations.col(i).cwiseProduct(inverse);
         LazyMaskedGram access(dictionary, dictionary_t, full_gram, hidden, observed, inverse, std::max(1, max_atoms));
-        auto& chosen = codes.atoms[static_cast<std::size_t>(p)];
-        auto& values = codes.coefficients[static_cast<std::size_t>(p)];
         ompKernel(access, alpha0, block_signals.col(i).squaredNorm(), n - static_cast<Eigen::Index>(hidden.size()),
                   parameters, &usable, work, chosen, values);
         for (std::size_t j = 0; j < chosen.size(); ++j)
           values[j] *= inverse[chosen[j]];
+        codes.set(p, chosen, values);
       }
     }
   }
@@ -415,9 +401,7 @@ SparseCodes maskedOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& 
     throw Error("masked sparse coding: signals, mask and dictionary sizes do not match");
   const Eigen::Index count = signals.cols(), num_atoms = dictionary.cols();
   const int max_atoms = std::min<int>(parameters.max_atoms, static_cast<int>(num_atoms));
-  CodeLists codes;
-  codes.atoms.resize(static_cast<std::size_t>(count));
-  codes.coefficients.resize(static_cast<std::size_t>(count));
+  CodeLists codes(count, num_atoms, max_atoms);
   const Eigen::MatrixXd dictionary_t = dictionary.transpose();
 
   std::map<std::vector<bool>, std::vector<Eigen::Index>> groups;
@@ -427,7 +411,7 @@ SparseCodes maskedOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& 
   groupByMask(mask, shared_gram_threshold, groups, shared_groups, singles);
   codeSharedMasks(dictionary_t, signals, mask, shared_groups, parameters, codes);
   codeSingleMasks(dictionary, dictionary_t, signals, mask, singles, parameters, max_atoms, codes);
-  return assemble(num_atoms, codes.atoms, codes.coefficients);
+  return codes.assemble(num_atoms);
 }
 
 }  // namespace patchdict
