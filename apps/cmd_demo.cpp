@@ -56,7 +56,7 @@ struct Row {
   double error = 0.0, second_error = -1.0;  // ×1e-3 of the unit cube
   double seconds = 0.0;
   std::string key{};  ///< name in --json (key_error, key_new_vertices_error, seconds.key)
-  std::string decision{};  ///< a measured patch decision, "kept" or "declined" (--json key_decision)
+  std::string decision{};  ///< a measured patch decision, "applied" or "declined" (--json key_decision)
 };
 
 double secondsOf(const std::function<void()>& work)

@@ -33,11 +33,8 @@ int runDenoise(const std::vector<std::string>& raw)
     throw UsageError("--noise and --noise-edges exclude each other");
   if (args.has("mu"))
     throw UsageError("--mu weighs the patch constraints of inpaint and fill-holes; denoise's is --fidelity");
-  if (!args.has("dict") && !args.has("self-similar")) {
+  if (!args.has("dict") && !args.has("self-similar"))
     refusePatchOptions(args, "denoise runs only with --dict or --self-similar");
-    if (args.has("patch-decision"))
-      throw UsageError("--patch-decision needs --dict or --self-similar");
-  }
   const bool quiet = line.quiet;
   const std::string& in_path = line.in_path;
   const std::string& out_path = line.out_path;
@@ -71,7 +68,7 @@ int runDenoise(const std::vector<std::string>& raw)
   note(quiet, "  base: Taubin smoothing, " + std::to_string(report.base_iterations) + " iterations");
   if (!report.patch_decision.empty())
     note(quiet, patchStageSummary(report.patches));
-  if (report.patch_decision == "kept" || report.patch_decision == "declined") {
+  if (report.base_error >= 0.0) {  // measured, not forced
     char decision[200];
     std::snprintf(decision, sizeof decision, "  patches %s: estimated error %.4g with them, %.4g without (Stein)",
                   report.patch_decision.c_str(), report.patch_error, report.base_error);

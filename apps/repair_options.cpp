@@ -15,7 +15,8 @@ const std::vector<std::string>& patchStageOptionNames()
   static const std::vector<std::string> names = {
       "quad-length",  "quad-factor",    "sparsity",  "mu",         "overlap",         "atoms",
       "grid",         "patch-scale",    "centre-sigma", "observed-power", "fit-scale", "agreement-scale",
-      "min-observed", "smoothing-iterations", "surface", "hole-factor", "error-factor", "fidelity"};
+      "min-observed", "smoothing-iterations", "surface", "hole-factor", "error-factor", "fidelity",
+      "patch-decision"};
   return names;
 }
 

@@ -391,11 +391,11 @@ void denoiseWithPatches(const TriangleMesh& input, TriangleMesh& out, const Deno
     t = Clock::now();
     const bool keep = patchesLowerTheRisk(*noisy, *work, moved, layout, patch_parameters, p, r);
     r.seconds_decision = secondsSince(t);
-    r.patch_decision = keep ? "kept" : "declined";
+    r.patch_decision = keep ? "applied" : "declined";
     if (!keep)
       return;
   } else {
-    r.patch_decision = "always";
+    r.patch_decision = "applied";  // forced: no estimates (base_error stays −1)
   }
   r.used_patches = true;
   double sum = 0.0;

@@ -138,8 +138,8 @@ struct DenoiseReport : PatchRepairReport {
   double noise_sigma = 0.0;  ///< σ used (normalised units)
   int base_iterations = 0;   ///< Taubin iterations of the base
   bool noise_estimated = false;
-  /// The patch stage's fate: "" (not run), "kept" or "declined" (measured), "always" (forced).
-  /// used_patches is true only when the result holds them.
+  /// The patch stage's fate, in the cloud path's words: "" (not run), "applied" or "declined";
+  /// measured when base_error ≥ 0, forced (decision Always) otherwise. used_patches = "applied".
   std::string patch_decision;
   /// Estimated RMS error against the unknown clean surface (normalised units; −1: not measured).
   double base_error = -1.0, patch_error = -1.0;
