@@ -25,12 +25,18 @@ namespace cli {
 
 namespace {
 
-/** Reads one input as patches: a .pds as it is, a surface through the `patches` stages. A file
-  * that is neither is read as .pds, whose reader says what is wrong with it. */
+/** True for an input read as a .pds: a .pds, or a file that is no surface either (whose reader
+  * then says what is wrong with it); false for a surface, which goes through the `patches` stages. */
+bool readsAsPatchSet(const std::string& path)
+{
+  return isPatchSetPath(path) || formatFromPath(path) == MeshFormat::Unknown;
+}
+
+/** Reads one input as patches: a .pds as it is, a surface through the `patches` stages. */
 PatchSet loadInputPatches(const std::string& path, SurfacePatchOptions options, int grid_size)
 {
   PatchSet patches;
-  if (isPatchSetPath(path) || formatFromPath(path) == MeshFormat::Unknown) {
+  if (readsAsPatchSet(path)) {
     patches = PatchSet::load(path);
   } else {
     if (grid_size > 0)
@@ -292,7 +298,7 @@ void learnOnline(const Arguments& args, LearnRun& run)
           ++run.cache_reads;
         } else {
           part = loadInputPatches(path, run.surface_options, run.grid_size);
-          if (pass + 1 < run.passes && !isPatchSetPath(path) && formatFromPath(path) != MeshFormat::Unknown)
+          if (pass + 1 < run.passes && !readsAsPatchSet(path))  // a .pds is read as fast as a cache
             cache.store(i, part, run.quiet);
         }
       } catch (const Error& error) {
