@@ -81,10 +81,10 @@ inline double positivePart(double v) { return 0.5 * (v + std::fabs(v)); }
   * place in bins from the first bin's centre), weighted by the biweight (1 − d²/R²)² (close to a
   * Gaussian of σ = R/2, without an exponential per bin): bins stay observed where random samples
   * are sparser than the grid. Floors by integer conversion (a library call otherwise, without
-  * SSE4.1 in the build); weights clamped at 0 without a branch (adding 0 changes nothing). */
-void splat(double x, double y, double z, double reach, BinSums& bins)
+  * SSE4.1 in the build); weights clamped at 0 without a branch (adding 0 changes nothing).
+  * inv_reach_sq = 1 / reach², computed once by the caller. */
+void splat(double x, double y, double z, double reach, double inv_reach_sq, BinSums& bins)
 {
-  const double inv_reach_sq = 1.0 / (reach * reach);
   if (reach <= 1.0) {  // at most the 2×2 bins around the point: unrolled, no bounds test
     const int u = floorToInt(x), v = floorToInt(y);
     if (u < -1 || v < -1 || u >= bins.n || v >= bins.n)
@@ -323,7 +323,8 @@ void cloudHeights(const std::vector<Eigen::Vector3d>& points, const std::vector<
       // the frame, the seed or a parameter and force them to be read again after every point.
       const Eigen::Vector3d seed = seeds[static_cast<std::size_t>(p)];
       const Eigen::Matrix3d rotation = frames[static_cast<std::size_t>(p)];
-      const double reach = parameters.bin_reach, half = grid.half;
+      const double reach = parameters.bin_reach, inv_reach_sq = reach > 0.0 ? 1.0 / (reach * reach) : 0.0;
+      const double half = grid.half;
       bins.clear();
       cells.forEachNear(seed, query_radius, [=, &bins](const Eigen::Vector3d& point, std::uint32_t) {
         const Eigen::Vector3d offset = point - seed;
@@ -333,7 +334,8 @@ void cloudHeights(const std::vector<Eigen::Vector3d>& points, const std::vector<
         if (local.squaredNorm() > radius_squared)
           return;
         if (reach > 0.0) {  // bin units, from the first bin's centre
-          splat((local.x() + half) * inv_bin - 0.5, (local.y() + half) * inv_bin - 0.5, local.z(), reach, bins);
+          splat((local.x() + half) * inv_bin - 0.5, (local.y() + half) * inv_bin - 0.5, local.z(), reach, inv_reach_sq,
+                bins);
           return;
         }
         const double u = std::floor((local.x() + half) * inv_bin);

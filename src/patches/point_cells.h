@@ -25,15 +25,14 @@ public:
   template <typename Visit>
   void forEachNear(const Eigen::Vector3d& centre, double r, Visit&& visit) const
   {
-    int low[3], high[3];
-    for (int a = 1; a < 3; ++a) {
-      low[a] = clampCell((centre[a] - r - origin_[a]) / cell_, a);
-      high[a] = clampCell((centre[a] + r - origin_[a]) / cell_, a);
-    }
+    const int y0 = clampCell((centre[1] - r - origin_[1]) / cell_, 1);
+    const int y1 = clampCell((centre[1] + r - origin_[1]) / cell_, 1);
+    const int z0 = clampCell((centre[2] - r - origin_[2]) / cell_, 2);
+    const int z1 = clampCell((centre[2] + r - origin_[2]) / cell_, 2);
     const double r2 = r * r;
-    for (int z = low[2]; z <= high[2]; ++z) {
+    for (int z = z0; z <= z1; ++z) {
       const double dz = gap(centre[2], z, 2);
-      for (int y = low[1]; y <= high[1]; ++y) {
+      for (int y = y0; y <= y1; ++y) {
         const double dy = gap(centre[1], y, 1);
         const double rest = r2 - dz * dz - dy * dy;
         if (rest < 0.0)
@@ -50,8 +49,6 @@ public:
       }
     }
   }
-
-  double cellSide() const { return cell_; }
 
 private:
   /** Distance along `axis` from c to cell k's slab (0 inside it). */
