@@ -3,6 +3,9 @@
 #include "cli.h"
 #include "options.h"
 #include "learn_inputs.h"
+#include "learn_ranks.h"
+#include "learn_shards.h"
+#include "learn_stream.h"
 #include "surface_patches.h"
 
 #include <pcl_patchdict/coding/learning_checkpoint.h>
@@ -15,86 +18,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <system_error>
-
-#include <unistd.h>
+#include <optional>
 
 namespace pcl {
 namespace patchdict {
 namespace cli {
 
 namespace {
-
-/** True for an input read as a .pds: a .pds, or a file that is no surface either (whose reader
-  * then says what is wrong with it); false for a surface, which goes through the `patches` stages. */
-bool readsAsPatchSet(const std::string& path)
-{
-  return isPatchSetPath(path) || formatFromPath(path) == MeshFormat::Unknown;
-}
-
-/** Reads one input as patches: a .pds as it is, a surface through the `patches` stages. */
-PatchSet loadInputPatches(const std::string& path, SurfacePatchOptions options, int grid_size)
-{
-  PatchSet patches;
-  if (readsAsPatchSet(path)) {
-    patches = PatchSet::load(path);
-  } else {
-    if (grid_size > 0)
-      options.grid_size = grid_size;
-    patches = surfacePatches(path, options, true).patches;
-  }
-  if (grid_size > 0 && patches.numPatches() > 0 && patches.grid_size != grid_size)
-    throw Error("'" + path + "' has " + std::to_string(patches.grid_size) + "×" + std::to_string(patches.grid_size) +
-                " patches, the inputs before it (or --grid) " + std::to_string(grid_size) + "×" +
-                std::to_string(grid_size));
-  return patches;
-}
-
-/** Patches of surface inputs kept on disk after the pass that made them (.pds files in a folder of
-  * the system's temporary directory, removed when the run ends): later passes read them back
-  * instead of running the quad and patch stages again. float64 throughout, so the same patches bit
-  * for bit and the same dictionary. A cache that cannot be written is given up, never the job. */
-class PatchCache {
-public:
-  PatchCache(bool enabled, std::size_t inputs) : enabled_(enabled), stored_(inputs, false) {}
-  PatchCache(const PatchCache&) = delete;
-  PatchCache& operator=(const PatchCache&) = delete;
-  ~PatchCache()
-  {
-    std::error_code ignored;
-    if (!folder_.empty())
-      std::filesystem::remove_all(folder_, ignored);
-  }
-  bool has(std::size_t input) const { return stored_[input]; }
-  PatchSet load(std::size_t input) const { return PatchSet::load(file(input)); }
-  void store(std::size_t input, const PatchSet& patches, bool quiet)
-  {
-    if (!enabled_)
-      return;
-    try {
-      if (folder_.empty()) {
-        folder_ = std::filesystem::temp_directory_path() /
-                  ("pcl_patchdict_learn_" + std::to_string(::getpid()) + "_" +
-                   std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
-        std::filesystem::create_directories(folder_);
-      }
-      patches.save(file(input));
-      stored_[input] = true;
-      bytes_ += std::filesystem::file_size(file(input));
-    } catch (const std::exception& error) {  // a full disk, say: the patches are made again instead
-      enabled_ = false;
-      note(quiet, std::string("  patch cache given up (") + error.what() + "): later passes make the patches again");
-    }
-  }
-  std::uintmax_t bytes() const { return bytes_; }
-
-private:
-  std::string file(std::size_t input) const { return (folder_ / (std::to_string(input) + ".pds")).string(); }
-  bool enabled_;
-  std::vector<bool> stored_;
-  std::filesystem::path folder_;
-  std::uintmax_t bytes_ = 0;
-};
 
 std::string number(double value)
 {
@@ -132,6 +62,9 @@ struct LearnRun {
   int passes = 0;
   std::size_t buffer_capacity = 0, checkpoint_every = 0, stop_after = 0;
   bool skip_bad = false;
+  int shards = 1;                              ///< --shards, or the MPI ranks
+  int ranks = 1, rank = 0;
+  std::vector<std::uint64_t> patches_coded;    ///< per shard (sharded runs)
   bool patch_cache = true;        ///< keep surface inputs' patches on disk between passes
   std::size_t cache_reads = 0;    ///< inputs read back from the cache
   std::uintmax_t cache_bytes = 0; ///< the cache's size at its largest
@@ -174,11 +107,22 @@ void readLearnLine(const Arguments& args, LearnRun& run)
   // not grow with the number of patches and which can be checkpointed and resumed.
   run.method = args.getWord("method", run.num_inputs == 1 ? "ksvd" : "online");
   run.online = run.method == "online";
-  for (const char* name : {"batch", "buffer", "checkpoint", "checkpoint-every", "resume", "stop-after", "no-patch-cache"})
+  for (const char* name :
+       {"batch", "buffer", "checkpoint", "checkpoint-every", "resume", "stop-after", "no-patch-cache", "shards"})
     if (!run.online && args.has(name))
       throw UsageError(std::string("--") + name + " is available with --method online only");
   if (run.online && args.has("remove-mean"))
     throw UsageError("--remove-mean is available with --method ksvd only");
+  run.shards = static_cast<int>(args.getInt("shards", run.ranks));
+  if (run.ranks > 1 && !run.online)
+    throw UsageError("mpirun runs 'learn --method online' only (K-SVD needs every patch in one process)");
+  if (run.ranks > 1 && run.shards != run.ranks)
+    throw UsageError("--shards " + std::to_string(run.shards) + " under mpirun with " + std::to_string(run.ranks) +
+                     " ranks: one shard per rank");
+  if (run.shards > 1)
+    for (const char* name : {"checkpoint", "resume", "stop-after"})
+      if (args.has(name))
+        throw UsageError(std::string("--") + name + " is not available with several shards (or ranks) yet");
   if ((args.has("checkpoint-every") || args.has("stop-after")) && run.checkpoint_path.empty())
     throw UsageError("--checkpoint-every and --stop-after need --checkpoint FILE");
 
@@ -355,6 +299,38 @@ void learnOnline(const Arguments& args, LearnRun& run)
   }
 }
 
+// 2b. Online learning over several shards (in this process, or one per MPI rank).
+void learnOnlineSharded(LearnRun& run, const Ranks& ranks)
+{
+  ShardedLearningJob job;
+  job.paths = run.inputs.paths;
+  job.shards = run.shards;
+  job.passes = run.passes;
+  job.buffer_capacity = run.buffer_capacity;
+  job.skip_bad = run.skip_bad;
+  job.patch_cache = run.patch_cache;
+  job.quiet = run.quiet;
+  job.surface_options = run.surface_options;
+  job.grid_size = run.grid_size;
+  job.parameters.num_atoms = run.options.num_atoms;
+  job.parameters.sparsity = run.options.sparsity;
+  job.parameters.batch_size = run.options.batch_size;
+  job.parameters.seed = run.options.seed;
+  const ShardedLearningResult result = learnSharded(job, ranks);
+  run.grid_size = result.grid_size;
+  run.progress.patches = result.patches;
+  run.progress.patches_streamed = result.patches_streamed;
+  run.progress.observed_sum = result.observed_sum;
+  run.progress.skipped = result.skipped;
+  run.patches_coded = result.patches_coded;
+  run.max_input_patches = result.max_input_patches;
+  run.max_buffered = result.max_buffered;
+  run.batches = result.rounds;
+  run.cache_reads = result.cache_reads;
+  run.cache_bytes = result.cache_bytes;
+  run.dictionary.setAtoms(result.dictionary, result.patches, run.options);
+}
+
 // 3. K-SVD needs every patch at once: the inputs are appended in memory.
 void learnKsvd(LearnRun& run, StageTimer& timer)
 {
@@ -406,6 +382,11 @@ JsonObject learnJson(const LearnRun& run, std::size_t patch_count, double observ
   json.add("max_input_patches", run.max_input_patches).add("max_buffered_patches", run.max_buffered);
   if (run.online) {
     json.add("buffer", run.buffer_capacity).add("batch", run.options.batch_size).add("batches", run.batches);
+    json.add("ranks", run.ranks).add("shards", run.shards);
+    if (!run.patches_coded.empty()) {
+      std::vector<long long> coded(run.patches_coded.begin(), run.patches_coded.end());
+      json.add("patches_coded_per_shard", coded);
+    }
     json.add("resumed", run.resumed);
     if (run.resumed)
       json.add("resumed_pass", static_cast<std::size_t>(run.resumed_pass))
@@ -427,17 +408,37 @@ JsonObject learnJson(const LearnRun& run, std::size_t patch_count, double observ
 
 int runLearn(const std::vector<std::string>& raw)
 {
-  const Arguments args = readCommandLine(raw, commandSpec("learn"));
+  if (Ranks::launchedAsMany() && !Ranks::built())
+    throw UsageError("started by an MPI launcher, but this pcl_patchdict was built without MPI (install libopenmpi-dev "
+                     "and build again), so each copy would learn alone");
+  Ranks& ranks = Ranks::world();
+  struct Finish {
+    Ranks& ranks;
+    ~Finish() { ranks.finish(); }
+  } finish{ranks};
+  // Every rank reads the same command line: an error in it is reported once, by rank 0.
+  std::optional<Arguments> read;
   LearnRun run;
-  readLearnLine(args, run);
+  run.ranks = ranks.size();
+  run.rank = ranks.rank();
+  ranks.agree([&]() {
+    read.emplace(readCommandLine(raw, commandSpec("learn")));
+    readLearnLine(*read, run);
+  });
+  const Arguments& args = *read;
 
-  StageTimer timer(run.quiet);
-  if (run.online) {
+  StageTimer timer(run.quiet || run.rank > 0);
+  if (run.online && run.shards > 1) {
+    timer.start("learn");
+    learnOnlineSharded(run, ranks);
+  } else if (run.online) {
     timer.start("learn");
     learnOnline(args, run);
   } else {
     learnKsvd(run, timer);
   }
+  if (run.rank > 0)
+    return 0;  // rank 0 writes the dictionary and reports
   const std::size_t patch_count = static_cast<std::size_t>(run.progress.patches);
   const double observed_fraction = patch_count ? run.progress.observed_sum / static_cast<double>(patch_count) : 0.0;
   if (run.complete) {

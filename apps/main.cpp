@@ -1,6 +1,7 @@
 // pcl_patchdict — one tool, many subcommands (see `pcl_patchdict help`). Every failure is one line
 // on stderr and a non-zero exit: 1 for bad input or a failed run, 2 for a malformed command line.
 #include "cli.h"
+#include "learn_ranks.h"
 #include "options.h"
 
 #include <pcl_patchdict/io/atomic_file.h>
@@ -73,6 +74,8 @@ int main(int argc, char** argv)
       return asksForHelp(args) ? cli::runHelp({name}) : command->second(args);
     std::cerr << "pcl_patchdict: unknown command '" << name << "' (see 'pcl_patchdict help')\n";
     return 2;
+  } catch (const cli::StoppedByAnotherRank&) {  // that rank printed the error
+    return 1;
   } catch (const cli::UsageError& e) {
     std::cerr << "pcl_patchdict " << name << ": " << e.what() << '\n';
     return 2;

@@ -296,6 +296,10 @@ void addSurfaceCommands(std::vector<CommandSpec>& table)
         integer("checkpoint-every", "N", 10, 1, 1LL << 40, "inputs between checkpoints (needs --checkpoint)"),
         computed(integer("stop-after", "N", 0, 1, 1LL << 40, "stop after N inputs, resumable (needs --checkpoint)"), ""),
         text("resume", "FILE.pdk", "continue from a checkpoint (online)"),
+        computed(integer("shards", "S", 1, 1, 4096,
+                         "split the inputs over S shards whose statistics are summed every mini-batch (online; "
+                         "under mpirun, one shard per rank)"),
+                 "1, or the number of MPI ranks"),
         flag("remove-mean", "remove each patch's mean before learning (ksvd)"),
         text("png", "ATOMS.png", "a picture of the atoms")},
        {}});

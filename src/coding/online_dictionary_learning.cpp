@@ -23,45 +23,80 @@ OnlineDictionaryLearner::OnlineDictionaryLearner(const OnlineLearningParameters&
 
 void OnlineDictionaryLearner::update(const Eigen::MatrixXd& batch, const ObservationMask& mask)
 {
+  if (!initialised())
+    initialise(batch, mask);
+  const ShardStatistics shard = codeShard(batch, mask);
+  applyRound(shard.a, shard.b, batch.cols(),
+             [&](Eigen::Index p) -> Eigen::VectorXd { return shard.filled.col(p); });
+}
+
+void OnlineDictionaryLearner::initialise(const Eigen::MatrixXd& batch, const ObservationMask& mask)
+{
+  if (initialised())
+    throw Error("online learning: the dictionary is initialised already");
   detail::checkTrainingData(batch, mask, parameters_.num_atoms, parameters_.sparsity);
-  const int num_atoms = parameters_.num_atoms;
-  if (dictionary_.size() == 0) {
-    dictionary_ = detail::initialAtoms(batch, mask, num_atoms, rng_);
-    a_ = Eigen::MatrixXd::Zero(num_atoms, num_atoms);
-    b_ = Eigen::MatrixXd::Zero(batch.rows(), num_atoms);
-  } else if (batch.rows() != dictionary_.rows()) {
+  dictionary_ = detail::initialAtoms(batch, mask, parameters_.num_atoms, rng_);
+  a_ = Eigen::MatrixXd::Zero(parameters_.num_atoms, parameters_.num_atoms);
+  b_ = Eigen::MatrixXd::Zero(batch.rows(), parameters_.num_atoms);
+}
+
+OnlineDictionaryLearner::ShardStatistics OnlineDictionaryLearner::codeShard(const Eigen::MatrixXd& batch,
+                                                                           const ObservationMask& mask) const
+{
+  if (!initialised())
+    throw Error("online learning: a shard is coded before the dictionary is initialised");
+  ShardStatistics shard;
+  if (batch.cols() == 0) {  // a shard with nothing this round adds nothing
+    shard.a = Eigen::MatrixXd::Zero(a_.rows(), a_.cols());
+    shard.b = Eigen::MatrixXd::Zero(b_.rows(), b_.cols());
+    shard.filled.resize(b_.rows(), 0);
+    return shard;
+  }
+  if (batch.rows() != dictionary_.rows())
     throw Error("online learning: batch signals have " + std::to_string(batch.rows()) + " entries, the dictionary " +
                 std::to_string(dictionary_.rows()));
-  }
+  detail::checkTrainingData(batch, mask, parameters_.num_atoms, parameters_.sparsity);
   const Eigen::MatrixXd codes = detail::codeSignals(dictionary_, batch, mask, parameters_.sparsity);
   // EM step for missing entries: what the current dictionary predicts stands in for them.
-  Eigen::MatrixXd filled = batch;
-  if (mask.size() != 0)
-    filled = mask.select(batch, dictionary_ * codes);
+  shard.filled = mask.size() != 0 ? Eigen::MatrixXd(mask.select(batch, dictionary_ * codes)) : batch;
+  shard.a.noalias() = codes * codes.transpose();
+  shard.b.noalias() = shard.filled * codes.transpose();
+  return shard;
+}
 
+void OnlineDictionaryLearner::applyRound(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, Eigen::Index signals,
+                                         const std::function<Eigen::VectorXd(Eigen::Index)>& restart_column)
+{
+  if (!initialised())
+    throw Error("online learning: a round is applied before the dictionary is initialised");
+  if (a.rows() != a_.rows() || a.cols() != a_.cols() || b.rows() != b_.rows() || b.cols() != b_.cols())
+    throw Error("online learning: the round's statistics disagree in size with the learner's");
+  if (signals < 1)
+    throw Error("online learning: a round without signals");
   // Forgetting factor of the mini-batch variant (Mairal et al. 2009, sec. 3.4; as scikit-learn).
-  const double eta = static_cast<double>(batch.cols());
+  const double eta = static_cast<double>(signals);
   const double t = static_cast<double>(steps_);
   const double theta = t < eta - 1.0 ? (t + 1.0) * eta : eta * eta + t + 1.0 - eta;
   const double beta = (theta + 1.0 - eta) / (theta + 1.0);
-  a_ = beta * a_ + codes * codes.transpose();
-  b_ = beta * b_ + filled * codes.transpose();
+  a_ = beta * a_ + a;
+  b_ = beta * b_ + b;
 
-  blockCoordinateUpdate(&filled);
-  seen_ += static_cast<std::size_t>(batch.cols());
+  blockCoordinateUpdate(signals, &restart_column);
+  seen_ += static_cast<std::size_t>(signals);
   ++steps_;
 }
 
-void OnlineDictionaryLearner::blockCoordinateUpdate(const Eigen::MatrixXd* restart_from)
+void OnlineDictionaryLearner::blockCoordinateUpdate(Eigen::Index columns,
+                                                    const std::function<Eigen::VectorXd(Eigen::Index)>* restart_column)
 {
   const int num_atoms = parameters_.num_atoms;
   for (int j = 0; j < num_atoms; ++j) {
     if (a_(j, j) < 1e-6) {
-      if (restart_from == nullptr || restart_from->cols() == 0)
+      if (restart_column == nullptr || columns == 0)
         continue;
       // An atom nobody uses: restart it from a signal of this batch (as SPAMS does).
-      std::uniform_int_distribution<Eigen::Index> pick(0, restart_from->cols() - 1);
-      Eigen::VectorXd candidate = detail::observedColumn(*restart_from, ObservationMask(), pick(rng_));
+      std::uniform_int_distribution<Eigen::Index> pick(0, columns - 1);
+      const Eigen::VectorXd candidate = (*restart_column)(pick(rng_));
       const double norm = candidate.norm();
       if (norm > 1e-12)
         dictionary_.col(j) = candidate / norm;
@@ -78,7 +113,7 @@ void OnlineDictionaryLearner::updateAtoms()
 {
   if (dictionary_.size() == 0)
     throw Error("online learning: no dictionary to update yet");
-  blockCoordinateUpdate(nullptr);
+  blockCoordinateUpdate(0, nullptr);
 }
 
 OnlineDictionaryLearner::State OnlineDictionaryLearner::state() const

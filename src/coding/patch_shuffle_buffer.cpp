@@ -36,20 +36,45 @@ void PatchShuffleBuffer::reserveRows(Eigen::Index rows)
   buffered_mask_.resize(rows, 0);
 }
 
+namespace {
+
+PatchShuffleBuffer::BatchSink learnerSink(OnlineDictionaryLearner& learner)
+{
+  return [&learner](const Eigen::MatrixXd& batch, const ObservationMask& mask) { learner.update(batch, mask); };
+}
+
+}  // namespace
+
 void PatchShuffleBuffer::add(const Eigen::MatrixXd& heights, const ObservationMask& observed,
                              OnlineDictionaryLearner& learner)
 {
+  add(heights, observed, learnerSink(learner));
+}
+
+void PatchShuffleBuffer::flush(OnlineDictionaryLearner& learner)
+{
+  flush(learnerSink(learner));
+}
+
+void PatchShuffleBuffer::add(const Eigen::MatrixXd& heights, const ObservationMask& observed, const BatchSink& sink)
+{
+  for (Eigen::Index p = 0; p < heights.cols(); ++p)
+    addColumn(heights, observed, p, sink);
+}
+
+void PatchShuffleBuffer::addColumn(const Eigen::MatrixXd& heights, const ObservationMask& observed,
+                                   Eigen::Index column, const BatchSink& sink)
+{
   if (observed.size() != 0 && (observed.rows() != heights.rows() || observed.cols() != heights.cols()))
     throw Error("shuffle buffer: the mask does not match the patches");
-  if (heights.cols() == 0)
-    return;
+  if (column < 0 || column >= heights.cols())
+    throw Error("shuffle buffer: column " + std::to_string(column) + " of " + std::to_string(heights.cols()));
   reserveRows(heights.rows());
-  for (Eigen::Index p = 0; p < heights.cols(); ++p)
-    push(heights, observed, p, learner);
+  push(heights, observed, column, sink);
 }
 
 void PatchShuffleBuffer::push(const Eigen::MatrixXd& heights, const ObservationMask& observed, Eigen::Index column,
-                              OnlineDictionaryLearner& learner)
+                              const BatchSink& sink)
 {
   if (static_cast<std::size_t>(size_) < capacity_) {
     if (size_ == buffered_.cols()) {
@@ -69,7 +94,7 @@ void PatchShuffleBuffer::push(const Eigen::MatrixXd& heights, const ObservationM
     return;
   }
   const Eigen::Index slot = static_cast<Eigen::Index>(rng_() % static_cast<std::uint64_t>(size_));
-  toPending(buffered_, buffered_mask_, slot, learner);
+  toPending(buffered_, buffered_mask_, slot, sink);
   buffered_.col(slot) = heights.col(column);
   if (observed.size() != 0)
     buffered_mask_.col(slot) = observed.col(column);
@@ -78,42 +103,39 @@ void PatchShuffleBuffer::push(const Eigen::MatrixXd& heights, const ObservationM
 }
 
 void PatchShuffleBuffer::toPending(const Eigen::MatrixXd& heights, const ObservationMask& observed,
-                                   Eigen::Index column, OnlineDictionaryLearner& learner)
+                                   Eigen::Index column, const BatchSink& sink)
 {
   pending_.col(pending_size_) = heights.col(column);
   pending_mask_.col(pending_size_) = observed.col(column);
   if (++pending_size_ == batch_size_)
-    feed(learner);
+    feed(sink);
 }
 
-void PatchShuffleBuffer::feed(OnlineDictionaryLearner& learner)
+void PatchShuffleBuffer::feed(const BatchSink& sink)
 {
   if (pending_size_ == 0)
     return;
   const Eigen::MatrixXd batch = pending_.leftCols(pending_size_);
   const ObservationMask mask = pending_mask_.leftCols(pending_size_);
-  // An all-observed batch goes through Batch-OMP (the mask-free path), as a fully observed file did.
-  if (mask.all())
-    learner.update(batch);
-  else
-    learner.update(batch, mask);
   pending_size_ = 0;
   ++batches_fed_;
+  // An all-observed batch goes through Batch-OMP (the mask-free path), as a fully observed file did.
+  sink(batch, mask.all() ? ObservationMask() : mask);
 }
 
-void PatchShuffleBuffer::flush(OnlineDictionaryLearner& learner)
+void PatchShuffleBuffer::flush(const BatchSink& sink)
 {
   // Fisher–Yates over the buffered patches, each sent on as it is drawn.
   for (Eigen::Index remaining = size_; remaining > 0; --remaining) {
     const Eigen::Index pick = static_cast<Eigen::Index>(rng_() % static_cast<std::uint64_t>(remaining));
-    toPending(buffered_, buffered_mask_, pick, learner);
+    toPending(buffered_, buffered_mask_, pick, sink);
     if (pick != remaining - 1) {
       buffered_.col(pick) = buffered_.col(remaining - 1);
       buffered_mask_.col(pick) = buffered_mask_.col(remaining - 1);
     }
   }
   size_ = 0;
-  feed(learner);
+  feed(sink);
 }
 
 PatchShuffleBuffer::State PatchShuffleBuffer::state() const

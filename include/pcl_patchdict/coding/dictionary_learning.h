@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <functional>
 #include <random>
 #include <string>
 #include <vector>
@@ -75,8 +76,30 @@ public:
   explicit OnlineDictionaryLearner(const OnlineLearningParameters& parameters);
 
   /** Feeds one mini-batch (n × b; mask empty or n × b). The first call fixes n and initialises the
-    * atoms from the batch's signals. */
+    * atoms from the batch's signals. The same as initialise() (first call), codeShard() and
+    * applyRound() on one shard. */
   void update(const Eigen::MatrixXd& batch, const ObservationMask& mask = ObservationMask());
+
+  /** One shard's part of a mini-batch round, coded against the common dictionary. */
+  struct ShardStatistics {
+    Eigen::MatrixXd a;       ///< K × K: Σ α αᵀ over the shard's signals
+    Eigen::MatrixXd b;       ///< n × K: Σ x αᵀ (unobserved entries of x predicted by D α)
+    Eigen::MatrixXd filled;  ///< n × m: the shard's signals with those predictions (restart candidates)
+  };
+  /** A mini-batch split into shards (processes, machines): every shard is coded by codeShard()
+    * against the same dictionary, the statistics are summed, and every holder of the learner
+    * calls applyRound() with the sums, so all of them take the update one learner would take on
+    * the combined batch. initialise() fixes n and the first atoms from the round's combined
+    * signals (before the first round only). */
+  bool initialised() const { return dictionary_.size() != 0; }
+  void initialise(const Eigen::MatrixXd& batch, const ObservationMask& mask = ObservationMask());
+  ShardStatistics codeShard(const Eigen::MatrixXd& batch, const ObservationMask& mask = ObservationMask()) const;
+  /** Folds the summed statistics of a round of `signals` signals in (the mini-batch forgetting
+    * factor of that size) and takes one atom pass. An atom nobody uses restarts from the
+    * combined batch's column p, asked of `restart_column(p)` (p drawn from the learner's
+    * generator; every holder asks for the same p in the same order). */
+  void applyRound(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, Eigen::Index signals,
+                  const std::function<Eigen::VectorXd(Eigen::Index)>& restart_column);
   /** Convenience: shuffled passes over an in-memory set, `epochs` times. */
   void fit(const Eigen::MatrixXd& signals, const ObservationMask& mask, int epochs);
 
@@ -95,8 +118,8 @@ public:
   void updateAtoms();
 
 private:
-  /** The atom pass; an unused atom restarts from a random column of `restart_from` if given. */
-  void blockCoordinateUpdate(const Eigen::MatrixXd* restart_from);
+  /** The atom pass; an unused atom restarts from column p (of `columns` drawn) if a source is given. */
+  void blockCoordinateUpdate(Eigen::Index columns, const std::function<Eigen::VectorXd(Eigen::Index)>* restart_column);
 
   OnlineLearningParameters parameters_;
   Eigen::MatrixXd dictionary_;  // n × K, unit columns

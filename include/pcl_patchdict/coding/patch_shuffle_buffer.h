@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <functional>
 #include <random>
 #include <string>
 
@@ -35,10 +36,19 @@ public:
   /** capacity ≥ 1 and batch_size ≥ 1, else Error. */
   PatchShuffleBuffer(std::size_t capacity, int batch_size, std::uint64_t seed);
 
+  /** Where full mini-batches go: the batch (n × b) and its mask (empty when all observed). */
+  using BatchSink = std::function<void(const Eigen::MatrixXd& batch, const ObservationMask& mask)>;
+
   /** Streams the columns of `heights` (n × P; `observed` n × P, or empty for all observed). */
   void add(const Eigen::MatrixXd& heights, const ObservationMask& observed, OnlineDictionaryLearner& learner);
   /** End of a pass: everything buffered goes to the learner; the buffer is empty afterwards. */
   void flush(OnlineDictionaryLearner& learner);
+  /** The same with the batches handed to `sink`; addColumn() streams one column, so a caller can
+    * stop at the first batch (a shard of a distributed round takes one batch at a time). */
+  void add(const Eigen::MatrixXd& heights, const ObservationMask& observed, const BatchSink& sink);
+  void addColumn(const Eigen::MatrixXd& heights, const ObservationMask& observed, Eigen::Index column,
+                 const BatchSink& sink);
+  void flush(const BatchSink& sink);
 
   std::size_t capacity() const { return capacity_; }
   std::size_t size() const { return static_cast<std::size_t>(size_); }
@@ -54,10 +64,10 @@ public:
 
 private:
   void push(const Eigen::MatrixXd& heights, const ObservationMask& observed, Eigen::Index column,
-            OnlineDictionaryLearner& learner);
+            const BatchSink& sink);
   void toPending(const Eigen::MatrixXd& heights, const ObservationMask& observed, Eigen::Index column,
-                 OnlineDictionaryLearner& learner);
-  void feed(OnlineDictionaryLearner& learner);
+                 const BatchSink& sink);
+  void feed(const BatchSink& sink);
   void reserveRows(Eigen::Index rows);
 
   std::size_t capacity_;

@@ -1,0 +1,361 @@
+// Sharded online learning: mini-batch rounds whose statistics are summed over shards (learn_shards.h).
+#include "learn_shards.h"
+#include "cli.h"
+#include "learn_stream.h"
+
+#include <pcl_patchdict/coding/patch_shuffle_buffer.h>
+#include <pcl_patchdict/core/error.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <deque>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+
+namespace pcl {
+namespace patchdict {
+namespace cli {
+
+namespace {
+
+struct Batch {
+  Eigen::MatrixXd signals;
+  ObservationMask mask;  ///< empty: all observed
+};
+
+int subBatchSize(int batch_size, int shards, int shard)
+{
+  return batch_size / shards + (shard < batch_size % shards ? 1 : 0);
+}
+
+std::uint64_t shardSeed(std::uint64_t seed, int shard)
+{
+  return seed + 0x632be59bd9b4e019ULL * static_cast<std::uint64_t>(shard);  // shard 0: the run's seed
+}
+
+/** One shard's stream: its inputs, one column at a time, through its shuffle buffer. */
+class ShardStream {
+public:
+  ShardStream(const ShardedLearningJob& job, int shard)
+      : job_(job), shard_(shard),
+        buffer_(job.buffer_capacity, subBatchSize(job.parameters.batch_size, job.shards, shard),
+                shardSeed(job.parameters.seed, shard)),
+        cache_(job.patch_cache, job.paths.size()), grid_size_(job.grid_size)
+  {
+    for (std::size_t i = static_cast<std::size_t>(shard); i < job.paths.size(); i += static_cast<std::size_t>(job.shards))
+      inputs_.push_back(i);
+  }
+
+  void startPass(int pass)
+  {
+    pass_ = pass;
+    cursor_ = 0;
+    flushed_ = false;
+  }
+
+  /** The shard's next sub-batch of this pass; false when the pass has nothing more. */
+  bool next(Batch& out)
+  {
+    const PatchShuffleBuffer::BatchSink sink = [this](const Eigen::MatrixXd& batch, const ObservationMask& mask) {
+      ready_.push_back({batch, mask});
+    };
+    while (ready_.empty()) {
+      if (column_ < current_.heights.cols()) {
+        buffer_.addColumn(current_.heights, current_mask_, column_++, sink);
+      } else if (cursor_ < inputs_.size()) {
+        read(inputs_[cursor_++]);
+      } else if (!flushed_) {
+        buffer_.flush(sink);
+        flushed_ = true;
+      } else {
+        return false;
+      }
+    }
+    out = std::move(ready_.front());
+    ready_.pop_front();
+    coded += static_cast<std::uint64_t>(out.signals.cols());
+    return true;
+  }
+
+  int index() const { return shard_; }
+  std::size_t highWater() const { return buffer_.highWater(); }
+  std::uintmax_t cacheBytes() const { return cache_.bytes(); }
+
+  std::uint64_t patches = 0, streamed = 0, coded = 0;
+  double observed_sum = 0.0;
+  std::size_t max_input_patches = 0, cache_reads = 0;
+  std::vector<std::pair<std::uint64_t, std::string>> skipped;
+
+private:
+  void read(std::size_t i)
+  {
+    const std::string& path = job_.paths[i];
+    const std::string where = "input " + std::to_string(i + 1) + "/" + std::to_string(job_.paths.size());
+    current_ = PatchSet();
+    column_ = 0;
+    bool bad = false;
+    try {
+      if (cache_.has(i)) {
+        current_ = cache_.load(i);
+        ++cache_reads;
+      } else {
+        current_ = loadInputPatches(path, job_.surface_options, grid_size_);
+        if (pass_ + 1 < job_.passes && !readsAsPatchSet(path))
+          cache_.store(i, current_, job_.quiet);
+      }
+    } catch (const Error& error) {
+      if (!job_.skip_bad)
+        throw Error(where + ": " + error.what() + " (--skip-bad skips bad inputs)");
+      if (pass_ == 0) {  // a bad input fails the same way on every pass: reported once
+        note(job_.quiet, "  skipped " + where + ": " + error.what());
+        skipped.emplace_back(i, error.what());
+      }
+      current_ = PatchSet();
+      bad = true;
+    }
+    const std::size_t count = current_.numPatches();
+    if (count > 0) {
+      if (grid_size_ == 0)
+        grid_size_ = current_.grid_size;
+      if (pass_ == 0) {
+        patches += count;
+        observed_sum += current_.observedFraction() * static_cast<double>(count);
+      }
+      max_input_patches = std::max(max_input_patches, count);
+      streamed += count;
+      current_mask_ = current_.observed.all() ? ObservationMask() : current_.observed;
+    }
+    char line[200];
+    std::snprintf(line, sizeof line, "  shard %d/%d, pass %d/%d, %s: %zu patches ", shard_ + 1, job_.shards,
+                  pass_ + 1, job_.passes, where.c_str(), count);
+    note(job_.quiet, line + std::filesystem::path(path).filename().string() + (bad ? " (skipped)" : ""));
+  }
+
+  const ShardedLearningJob& job_;
+  int shard_;
+  std::vector<std::size_t> inputs_;
+  PatchShuffleBuffer buffer_;
+  PatchCache cache_;
+  int grid_size_;
+  int pass_ = 0;
+  std::size_t cursor_ = 0;
+  bool flushed_ = false;
+  PatchSet current_;
+  ObservationMask current_mask_;
+  Eigen::Index column_ = 0;
+  std::deque<Batch> ready_;
+};
+
+/** An error every rank knows of alike: reported once, by rank 0. */
+[[noreturn]] void failTogether(const Ranks& ranks, const std::string& message)
+{
+  ranks.agree([&]() {
+    if (ranks.rank() == 0)
+      throw Error(message);
+  });
+  throw Error(message);  // one process
+}
+
+std::string bytesOf(const Batch& batch)
+{
+  const Eigen::Index rows = batch.signals.rows(), cols = batch.signals.cols();
+  std::string bytes(2 * sizeof(std::int64_t) + static_cast<std::size_t>(rows * cols) * (sizeof(double) + 1), '\0');
+  const std::int64_t size[2] = {rows, cols};
+  std::memcpy(bytes.data(), size, sizeof size);
+  std::memcpy(bytes.data() + sizeof size, batch.signals.data(), static_cast<std::size_t>(rows * cols) * sizeof(double));
+  char* mask = bytes.data() + sizeof size + static_cast<std::size_t>(rows * cols) * sizeof(double);
+  for (Eigen::Index k = 0; k < rows * cols; ++k)
+    mask[k] = batch.mask.size() == 0 || batch.mask.data()[k] ? 1 : 0;
+  return bytes;
+}
+
+/** The round's combined batch (every shard's sub-batch in shard order), on every rank. */
+Batch combinedBatch(const std::vector<Batch>& local, const Ranks& ranks, Eigen::Index rows)
+{
+  std::vector<Batch> parts;
+  if (ranks.size() == 1) {
+    parts = local;
+  } else {
+    for (const std::string& bytes : ranks.allGatherBytes(bytesOf(local.front()))) {
+      std::int64_t size[2];
+      std::memcpy(size, bytes.data(), sizeof size);
+      Batch part;
+      part.signals.resize(size[0], size[1]);
+      part.mask.resize(size[0], size[1]);
+      const std::size_t count = static_cast<std::size_t>(size[0] * size[1]);
+      std::memcpy(part.signals.data(), bytes.data() + sizeof size, count * sizeof(double));
+      for (std::size_t k = 0; k < count; ++k)
+        part.mask.data()[k] = bytes[sizeof size + count * sizeof(double) + k] != 0;
+      parts.push_back(std::move(part));
+    }
+  }
+  Eigen::Index cols = 0;
+  bool masked = false;
+  for (const Batch& part : parts) {
+    cols += part.signals.cols();
+    masked = masked || (part.mask.size() != 0 && !part.mask.all());
+  }
+  Batch all;
+  all.signals.resize(rows, cols);
+  if (masked)
+    all.mask.resize(rows, cols);
+  Eigen::Index at = 0;
+  for (const Batch& part : parts) {
+    const Eigen::Index c = part.signals.cols();
+    if (c == 0)
+      continue;
+    all.signals.middleCols(at, c) = part.signals;
+    if (masked) {
+      if (part.mask.size() == 0)
+        all.mask.middleCols(at, c).setConstant(true);
+      else
+        all.mask.middleCols(at, c) = part.mask;
+    }
+    at += c;
+  }
+  return all;
+}
+
+}  // namespace
+
+namespace {
+
+/** The shards' counters, gathered so that every rank holds every shard's (in shard order). */
+void gatherCounters(const std::vector<std::unique_ptr<ShardStream>>& local, const Ranks& ranks,
+                    ShardedLearningResult& result)
+{
+  std::vector<std::int64_t> counts;
+  std::vector<double> sums;
+  std::string skipped;
+  for (const auto& shard : local) {
+    counts.insert(counts.end(), {static_cast<std::int64_t>(shard->patches), static_cast<std::int64_t>(shard->streamed),
+                                 static_cast<std::int64_t>(shard->coded),
+                                 static_cast<std::int64_t>(shard->max_input_patches),
+                                 static_cast<std::int64_t>(shard->highWater()),
+                                 static_cast<std::int64_t>(shard->cache_reads),
+                                 static_cast<std::int64_t>(shard->cacheBytes())});
+    sums.push_back(shard->observed_sum);
+    for (const auto& entry : shard->skipped)
+      skipped += std::to_string(entry.first) + '\t' + entry.second + '\n';
+  }
+  const std::vector<std::int64_t> all = ranks.allGather(counts);
+  const std::vector<double> all_sums = ranks.allGather(sums);
+  for (std::size_t s = 0; s < all_sums.size(); ++s) {
+    const std::int64_t* c = &all[7 * s];
+    result.patches += static_cast<std::uint64_t>(c[0]);
+    result.patches_streamed += static_cast<std::uint64_t>(c[1]);
+    result.patches_coded.push_back(static_cast<std::uint64_t>(c[2]));
+    result.max_input_patches = std::max(result.max_input_patches, static_cast<std::size_t>(c[3]));
+    result.max_buffered = std::max(result.max_buffered, static_cast<std::size_t>(c[4]));
+    result.cache_reads += static_cast<std::size_t>(c[5]);
+    result.cache_bytes += static_cast<std::uint64_t>(c[6]);
+    result.observed_sum += all_sums[s];
+  }
+  for (const std::string& text : ranks.allGatherBytes(skipped)) {
+    std::istringstream lines(text);
+    std::string line;
+    while (std::getline(lines, line)) {
+      const std::size_t tab = line.find('\t');
+      result.skipped.emplace_back(std::stoull(line.substr(0, tab)), line.substr(tab + 1));
+    }
+  }
+  std::sort(result.skipped.begin(), result.skipped.end());
+}
+
+}  // namespace
+
+ShardedLearningResult learnSharded(const ShardedLearningJob& job, const Ranks& ranks)
+{
+  if (job.shards < 1 || job.parameters.batch_size < job.shards)
+    throw Error("sharded learning: the batch (" + std::to_string(job.parameters.batch_size) +
+                ") must hold at least one patch per shard (" + std::to_string(job.shards) + ")");
+  if (ranks.size() > 1 && ranks.size() != job.shards)
+    throw Error("sharded learning: " + std::to_string(ranks.size()) + " ranks for " + std::to_string(job.shards) +
+                " shards");
+  std::vector<std::unique_ptr<ShardStream>> local;
+  for (int s = 0; s < job.shards; ++s)
+    if (ranks.size() == 1 || s == ranks.rank())
+      local.push_back(std::make_unique<ShardStream>(job, s));
+
+  OnlineDictionaryLearner learner(job.parameters);
+  ShardedLearningResult result;
+  Eigen::Index rows = 0;
+  for (int pass = 0; pass < job.passes; ++pass) {
+    for (auto& shard : local)
+      shard->startPass(pass);
+    for (;;) {
+      // 1. Every shard's next sub-batch; every rank learns every shard's size.
+      std::vector<Batch> batches(local.size());
+      std::vector<std::int64_t> header;
+      ranks.agree([&]() {
+        for (std::size_t i = 0; i < local.size(); ++i) {
+          const bool got = local[i]->next(batches[i]);
+          header.push_back(got ? batches[i].signals.rows() : 0);
+          header.push_back(got ? batches[i].signals.cols() : 0);
+        }
+      });
+      const std::vector<std::int64_t> sizes = ranks.allGather(header);
+      std::vector<Eigen::Index> offsets(1, 0);
+      for (int s = 0; s < job.shards; ++s) {
+        const Eigen::Index shard_rows = sizes[2 * static_cast<std::size_t>(s)];
+        if (shard_rows != 0 && rows != 0 && shard_rows != rows)
+          failTogether(ranks, "shard " + std::to_string(s + 1) + "'s patches have " + std::to_string(shard_rows) +
+                                  " bins, the others' " + std::to_string(rows) + " (give --grid)");
+        if (shard_rows != 0)
+          rows = shard_rows;
+        offsets.push_back(offsets.back() + sizes[2 * static_cast<std::size_t>(s) + 1]);
+      }
+      const Eigen::Index total = offsets.back();
+      if (total == 0)
+        break;  // the pass is over on every shard
+
+      // 2. The first round's combined signals initialise the atoms on every rank.
+      if (!learner.initialised()) {
+        const Batch first = combinedBatch(batches, ranks, rows);
+        learner.initialise(first.signals, first.mask);
+      }
+      // 3. Every shard codes its sub-batch; the statistics [A | B] are summed over the shards.
+      const Eigen::Index k = job.parameters.num_atoms;
+      std::vector<OnlineDictionaryLearner::ShardStatistics> stats(local.size());
+      std::vector<std::vector<double>> parts(local.size());
+      ranks.agree([&]() {
+        for (std::size_t i = 0; i < local.size(); ++i) {
+          stats[i] = learner.codeShard(batches[i].signals, batches[i].mask);
+          parts[i].resize(static_cast<std::size_t>(k * k + rows * k));
+          Eigen::Map<Eigen::MatrixXd>(parts[i].data(), k, k) = stats[i].a;
+          Eigen::Map<Eigen::MatrixXd>(parts[i].data() + k * k, rows, k) = stats[i].b;
+        }
+      });
+      treeSum(parts);
+      ranks.sum(parts[0].data(), parts[0].size());
+      const Eigen::MatrixXd a = Eigen::Map<const Eigen::MatrixXd>(parts[0].data(), k, k);
+      const Eigen::MatrixXd b = Eigen::Map<const Eigen::MatrixXd>(parts[0].data() + k * k, rows, k);
+      // 4. The same update on every rank; a restarted atom takes its column from the shard that has it.
+      const auto restart = [&](Eigen::Index p) -> Eigen::VectorXd {
+        const int owner = static_cast<int>(std::upper_bound(offsets.begin(), offsets.end(), p) - offsets.begin()) - 1;
+        Eigen::VectorXd column = Eigen::VectorXd::Zero(rows);
+        for (std::size_t i = 0; i < local.size(); ++i)
+          if (local[i]->index() == owner)
+            column = stats[i].filled.col(p - offsets[static_cast<std::size_t>(owner)]);
+        ranks.broadcast(column.data(), static_cast<std::size_t>(rows), owner);
+        return column;
+      };
+      learner.applyRound(a, b, total, restart);
+      ++result.rounds;
+    }
+  }
+  gatherCounters(local, ranks, result);
+  if (result.patches == 0 || !learner.initialised())
+    failTogether(ranks, result.skipped.size() == job.paths.size() ? "every input was bad and skipped"
+                                                                  : "the inputs hold no patches");
+  result.dictionary = learner.dictionary();
+  result.grid_size = static_cast<int>(std::lround(std::sqrt(static_cast<double>(rows))));
+  return result;
+}
+
+}  // namespace cli
+}  // namespace patchdict
+}  // namespace pcl

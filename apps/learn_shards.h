@@ -1,0 +1,62 @@
+// Online learning split into shards (MPI ranks, or shards of one process): each shard streams its
+// inputs through its own shuffle buffer, and every mini-batch round sums the shards' statistics.
+#pragma once
+
+#include "learn_ranks.h"
+#include "surface_patches.h"
+
+#include <pcl_patchdict/coding/dictionary_learning.h>
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace pcl {
+namespace patchdict {
+namespace cli {
+
+/** What a sharded run is asked to do. Shard s streams the inputs i with i mod S = s, through a
+  * shuffle buffer of `buffer_capacity` patches seeded for s (shard 0 as a one-shard run), into
+  * sub-batches of ⌊B/S⌋ patches (one more for the first B mod S shards): a round's combined batch
+  * has B patches while every shard has some. */
+struct ShardedLearningJob {
+  std::vector<std::string> paths;
+  int shards = 1;
+  int passes = 3;
+  std::size_t buffer_capacity = 20000;
+  bool skip_bad = false;
+  bool patch_cache = true;
+  bool quiet = false;
+  SurfacePatchOptions surface_options;
+  int grid_size = 0;  ///< imposed (--grid), or 0: each shard's first input's
+  OnlineLearningParameters parameters;
+};
+
+/** What it made: the same on every rank. */
+struct ShardedLearningResult {
+  Eigen::MatrixXd dictionary;
+  int grid_size = 0;
+  std::uint64_t patches = 0;           ///< distinct patches (first pass)
+  std::uint64_t patches_streamed = 0;  ///< over all passes
+  double observed_sum = 0.0;           ///< Σ over first-pass patches of their observed fraction
+  std::vector<std::pair<std::uint64_t, std::string>> skipped;  ///< input index, reason (ascending)
+  std::vector<std::uint64_t> patches_coded;                    ///< per shard, over all passes
+  std::size_t rounds = 0, max_input_patches = 0, max_buffered = 0, cache_reads = 0;
+  std::uint64_t cache_bytes = 0;
+};
+
+/** \brief Mini-batch rounds over S shards: each shard's sub-batch is coded against the common
+  * dictionary (OnlineDictionaryLearner::codeShard), the statistics summed in a fixed binary tree
+  * over shard indices (treeSum / Ranks::sum) and one update taken (applyRound) by every holder of
+  * the learner. The first round's combined signals initialise the atoms, an unused atom restarts
+  * from a column of the round's combined batch — so the dictionary is that of one learner fed the
+  * combined batches, and the same bits whether the S shards run in one process or on S ranks.
+  * With MPI, `ranks.size()` must equal `job.shards` (rank r runs shard r); in one process every
+  * shard runs here. A bad input (without skip_bad) stops every rank at the next round with one
+  * error line, from the rank that read it. */
+ShardedLearningResult learnSharded(const ShardedLearningJob& job, const Ranks& ranks);
+
+}  // namespace cli
+}  // namespace patchdict
+}  // namespace pcl
