@@ -65,6 +65,7 @@ struct LearnRun {
   int shards = 1;                              ///< --shards, or the MPI ranks
   int ranks = 1, rank = 0;
   std::vector<std::uint64_t> patches_coded;    ///< per shard (sharded runs)
+  JsonObject round_seconds;                    ///< where rank 0's rounds went (sharded runs)
   bool patch_cache = true;        ///< keep surface inputs' patches on disk between passes
   std::size_t cache_reads = 0;    ///< inputs read back from the cache
   std::uintmax_t cache_bytes = 0; ///< the cache's size at its largest
@@ -328,6 +329,10 @@ void learnOnlineSharded(LearnRun& run, const Ranks& ranks)
   run.batches = result.rounds;
   run.cache_reads = result.cache_reads;
   run.cache_bytes = result.cache_bytes;
+  run.round_seconds.add("read", result.seconds_read)
+      .add("code", result.seconds_code)
+      .add("exchange", result.seconds_exchange)
+      .add("update", result.seconds_update);
   run.dictionary.setAtoms(result.dictionary, result.patches, run.options);
 }
 
@@ -385,7 +390,7 @@ JsonObject learnJson(const LearnRun& run, std::size_t patch_count, double observ
     json.add("ranks", run.ranks).add("shards", run.shards);
     if (!run.patches_coded.empty()) {
       std::vector<long long> coded(run.patches_coded.begin(), run.patches_coded.end());
-      json.add("patches_coded_per_shard", coded);
+      json.add("patches_coded_per_shard", coded).add("round_seconds", run.round_seconds);
     }
     json.add("resumed", run.resumed);
     if (run.resumed)

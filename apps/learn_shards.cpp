@@ -7,6 +7,7 @@
 #include <pcl_patchdict/core/error.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -265,6 +266,20 @@ void gatherCounters(const std::vector<std::unique_ptr<ShardStream>>& local, cons
   std::sort(result.skipped.begin(), result.skipped.end());
 }
 
+/** Adds the seconds since the last call to one of the round's parts. */
+class PartClock {
+public:
+  void to(double& part)
+  {
+    const auto now = std::chrono::steady_clock::now();
+    part += std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+  }
+
+private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
 }  // namespace
 
 ShardedLearningResult learnSharded(const ShardedLearningJob& job, const Ranks& ranks)
@@ -283,6 +298,7 @@ ShardedLearningResult learnSharded(const ShardedLearningJob& job, const Ranks& r
   OnlineDictionaryLearner learner(job.parameters);
   ShardedLearningResult result;
   Eigen::Index rows = 0;
+  PartClock clock;
   for (int pass = 0; pass < job.passes; ++pass) {
     for (auto& shard : local)
       shard->startPass(pass);
@@ -297,6 +313,7 @@ ShardedLearningResult learnSharded(const ShardedLearningJob& job, const Ranks& r
           header.push_back(got ? batches[i].signals.cols() : 0);
         }
       });
+      clock.to(result.seconds_read);
       const std::vector<std::int64_t> sizes = ranks.allGather(header);
       std::vector<Eigen::Index> offsets(1, 0);
       for (int s = 0; s < job.shards; ++s) {
@@ -315,8 +332,9 @@ ShardedLearningResult learnSharded(const ShardedLearningJob& job, const Ranks& r
       // 2. The first round's combined signals initialise the atoms on every rank.
       if (!learner.initialised()) {
         const Batch first = combinedBatch(batches, ranks, rows);
-        learner.initialise(first.signals, first.mask);
+        ranks.agree([&]() { learner.initialise(first.signals, first.mask); });
       }
+      clock.to(result.seconds_exchange);
       // 3. Every shard codes its sub-batch; the statistics [A | B] are summed over the shards.
       const Eigen::Index k = job.parameters.num_atoms;
       std::vector<OnlineDictionaryLearner::ShardStatistics> stats(local.size());
@@ -329,8 +347,10 @@ ShardedLearningResult learnSharded(const ShardedLearningJob& job, const Ranks& r
           Eigen::Map<Eigen::MatrixXd>(parts[i].data() + k * k, rows, k) = stats[i].b;
         }
       });
+      clock.to(result.seconds_code);
       treeSum(parts);
       ranks.sum(parts[0].data(), parts[0].size());
+      clock.to(result.seconds_exchange);
       const Eigen::MatrixXd a = Eigen::Map<const Eigen::MatrixXd>(parts[0].data(), k, k);
       const Eigen::MatrixXd b = Eigen::Map<const Eigen::MatrixXd>(parts[0].data() + k * k, rows, k);
       // 4. The same update on every rank; a restarted atom takes its column from the shard that has it.
@@ -344,6 +364,7 @@ ShardedLearningResult learnSharded(const ShardedLearningJob& job, const Ranks& r
         return column;
       };
       learner.applyRound(a, b, total, restart);
+      clock.to(result.seconds_update);
       ++result.rounds;
     }
   }

@@ -44,6 +44,10 @@ struct ShardedLearningResult {
   std::vector<std::uint64_t> patches_coded;                    ///< per shard, over all passes
   std::size_t rounds = 0, max_input_patches = 0, max_buffered = 0, cache_reads = 0;
   std::uint64_t cache_bytes = 0;
+  /** Rank 0's wall time in the parts of the rounds (the cost model of docs/performance.md): its
+    * shards' reading and buffering, their coding (codeShard), the exchanges between ranks
+    * (headers, the sum of A and B, which also waits for the slowest rank), and the atom update. */
+  double seconds_read = 0.0, seconds_code = 0.0, seconds_exchange = 0.0, seconds_update = 0.0;
 };
 
 /** \brief Mini-batch rounds over S shards: each shard's sub-batch is coded against the common

@@ -3,7 +3,8 @@
 # PCL 1.13 (libpcl-dev) brings Boost, Eigen 3.4, FLANN 1.9 and VTK 9.1 with it.
 set -euo pipefail
 
-packages=(g++ cmake make libpcl-dev libgtest-dev libbenchmark-dev zlib1g-dev)
+# libopenmpi-dev + openmpi-bin: learn over MPI ranks (PCL's VTK pulls them in today; named so it stays so).
+packages=(g++ cmake make libpcl-dev libgtest-dev libbenchmark-dev zlib1g-dev libopenmpi-dev openmpi-bin)
 # --bench: also what bench/reproduce.py runs with (Python for the scripts, Draco for the comparison;
 # numpy, scipy and pcl-tools — PCL's MLS and PCD converter — for bench/real_scans.py).
 if [ "${1:-}" = "--bench" ]; then

@@ -55,10 +55,15 @@ void writeFile(const std::string& path, const std::string& bytes)
 
 ToolResult runTool(const std::string& arguments)
 {
+  return runToolWith("", arguments);
+}
+
+ToolResult runToolWith(const std::string& launcher, const std::string& arguments)
+{
   TempDir capture;
   const std::string out_path = capture.file("stdout"), err_path = capture.file("stderr");
-  const std::string command = std::string("'") + PCL_PATCHDICT_TOOL + "' " + arguments + " >'" + out_path +
-                              "' 2>'" + err_path + "' </dev/null";
+  const std::string command = launcher + (launcher.empty() ? "" : " ") + "'" + PCL_PATCHDICT_TOOL + "' " + arguments +
+                              " >'" + out_path + "' 2>'" + err_path + "' </dev/null";
   const int status = std::system(command.c_str());
   ToolResult result;
   result.exit_code = (status != -1 && WIFEXITED(status)) ? WEXITSTATUS(status) : -1;

@@ -31,6 +31,8 @@ struct ToolResult {
 
 /** Runs the built pcl_patchdict tool with the given argument string (shell-quoted by the caller). */
 ToolResult runTool(const std::string& arguments);
+/** The same, started by `launcher` (e.g. "mpirun -np 2"): "launcher 'tool' arguments". */
+ToolResult runToolWith(const std::string& launcher, const std::string& arguments);
 
 /** Whole file as bytes ("" if missing). */
 std::string readFile(const std::string& path);

@@ -1,0 +1,156 @@
+// `learn` over shards: --shards S in one process, and one shard per rank under mpirun (the same
+// bits), bad inputs on one rank stopping every rank with one error line, or skipped by all.
+#include <pcl_patchdict/coding/patch_dictionary.h>
+#include <pcl_patchdict/patches/patch_set.h>
+
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <random>
+
+using namespace pcl::patchdict;
+using test_support::jsonNumber;
+using test_support::q;
+using test_support::readFile;
+using test_support::runTool;
+using test_support::runToolWith;
+
+namespace {
+
+// 8×8 sinusoidal height maps of their own seed; every 4th with some bins unobserved.
+void writeSet(const std::string& path, std::uint64_t seed, int count)
+{
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> gaussian;
+  PatchSet set;
+  set.grid_size = 8;
+  set.radius = 0.1;
+  set.heights.resize(64, count);
+  set.observed = ObservationMask::Constant(64, count, true);
+  for (int p = 0; p < count; ++p) {
+    set.seeds.emplace_back(gaussian(rng), gaussian(rng), 0.0);
+    set.rotations.push_back(Eigen::Matrix3d::Identity());
+    set.source.push_back(0);
+    const double phase = gaussian(rng), tilt = 0.3 * gaussian(rng);
+    for (int b = 0; b < 64; ++b)
+      set.heights(b, p) = std::sin(phase + 0.9 * (b % 8)) + tilt * (b / 8) + 0.05 * gaussian(rng);
+    if (p % 4 == 0)
+      for (int b = p % 5; b < 64; b += 9) {
+        set.observed(b, p) = false;
+        set.heights(b, p) = 0.0;
+      }
+  }
+  set.save(path);
+}
+
+const char* kJob = " --atoms 16 --sparsity 3 --batch 40 --buffer 100 --iterations 2 --json --quiet";
+
+/** mpirun with two ranks, whoever runs the tests (CI runs as root), on any core count. */
+std::string mpirun()
+{
+#ifdef PCL_PATCHDICT_MPIEXEC
+  return std::string("timeout 300 '") + PCL_PATCHDICT_MPIEXEC + "' --allow-run-as-root --oversubscribe -np 2";
+#else
+  return "";
+#endif
+}
+
+std::size_t linesWith(const std::string& text, const std::string& needle)
+{
+  std::size_t count = 0;
+  for (std::size_t at = text.find(needle); at != std::string::npos; at = text.find(needle, at + 1))
+    ++count;
+  return count;
+}
+
+}  // namespace
+
+TEST(CliLearnShards, ShardsInOneProcessSplitTheInputsAndCodeEveryPatch)
+{
+  test_support::TempDir dir;
+  std::string inputs;
+  for (int i = 0; i < 3; ++i) {
+    writeSet(dir.file("s" + std::to_string(i) + ".pds"), 10 + static_cast<std::uint64_t>(i), 150 + 50 * i);
+    inputs += " " + q(dir.file("s" + std::to_string(i) + ".pds"));
+  }
+  auto one = runTool("learn" + inputs + " -o " + q(dir.file("one.pdd")) + kJob);
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  auto two = runTool("learn" + inputs + " -o " + q(dir.file("two.pdd")) + kJob + " --shards 2");
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  EXPECT_EQ(jsonNumber(two.out, "shards"), 2.0);
+  EXPECT_EQ(jsonNumber(two.out, "ranks"), 1.0);
+  EXPECT_EQ(jsonNumber(two.out, "patches"), 600.0);
+  // Inputs 1 and 3 on shard 1 (150 + 250 patches), input 2 on shard 2 (200), two passes.
+  EXPECT_NE(two.out.find("\"patches_coded_per_shard\": [800,400]"), std::string::npos) << two.out;
+  const auto d1 = PatchDictionary::load(dir.file("one.pdd"));
+  const auto d2 = PatchDictionary::load(dir.file("two.pdd"));
+  // Other batches, so another dictionary, of the same quality on these patches (±10 %).
+  EXPECT_GT((d1->atoms() - d2->atoms()).cwiseAbs().maxCoeff(), 1e-3);
+  const PatchSet all = PatchSet::load(dir.file("s2.pds"));
+  const auto error = [&](const PatchDictionary& d) {
+    const SparseCodingParameters coding{3, 0.0};
+    return observedRMSE(d.decode(d.encodeMasked(all.heights, all.observed, coding)), all.heights, all.observed);
+  };
+  const double e1 = error(*d1), e2 = error(*d2);
+  EXPECT_LT(std::abs(e1 - e2), 0.1 * e1) << e1 << " " << e2;
+  // Shards need online learning and at least one patch each per batch; no checkpoints yet.
+  EXPECT_EQ(runTool("learn" + inputs + " -o " + q(dir.file("x.pdd")) + kJob + " --shards 41").exit_code, 1);
+  EXPECT_EQ(runTool("learn" + inputs + " -o " + q(dir.file("x.pdd")) + kJob + " --shards 2 --checkpoint " +
+                    q(dir.file("c.pdk")))
+                .exit_code,
+            2);
+  EXPECT_FALSE(std::filesystem::exists(dir.file("x.pdd")));
+}
+
+TEST(CliLearnShards, TwoRanksGiveTheBitsOfTwoShardsInOneProcess)
+{
+  if (mpirun().empty())
+    GTEST_SKIP() << "built without MPI";
+  test_support::TempDir dir;
+  std::string inputs;
+  for (int i = 0; i < 4; ++i) {
+    writeSet(dir.file("s" + std::to_string(i) + ".pds"), 20 + static_cast<std::uint64_t>(i), 120 + 40 * i);
+    inputs += " " + q(dir.file("s" + std::to_string(i) + ".pds"));
+  }
+  const auto local = runTool("learn" + inputs + " -o " + q(dir.file("local.pdd")) + kJob + " --shards 2");
+  ASSERT_EQ(local.exit_code, 0) << local.err;
+  const auto ranks = runToolWith(mpirun(), "learn" + inputs + " -o " + q(dir.file("ranks.pdd")) + kJob);
+  ASSERT_EQ(ranks.exit_code, 0) << ranks.err;
+  EXPECT_EQ(jsonNumber(ranks.out, "ranks"), 2.0);
+  EXPECT_EQ(linesWith(ranks.out, "\"command\": \"learn\""), 1u);  // rank 0 alone reports
+  EXPECT_EQ(jsonNumber(ranks.out, "batches"), jsonNumber(local.out, "batches"));
+  EXPECT_NE(ranks.out.find("\"patches_coded_per_shard\": [640,800]"), std::string::npos) << ranks.out;
+  const std::string bytes = readFile(dir.file("ranks.pdd"));
+  ASSERT_FALSE(bytes.empty());
+  EXPECT_EQ(bytes, readFile(dir.file("local.pdd")));  // byte for byte: the same sums in the same order
+}
+
+TEST(CliLearnShards, ABadInputOnOneRankStopsEveryRankWithOneErrorLine)
+{
+  if (mpirun().empty())
+    GTEST_SKIP() << "built without MPI";
+  test_support::TempDir dir;
+  writeSet(dir.file("a.pds"), 31, 200);
+  test_support::writeFile(dir.file("b.pds"), "not a patch set\n");  // input 2: rank 1's
+  writeSet(dir.file("c.pds"), 32, 200);
+  const std::string inputs = " " + q(dir.file("a.pds")) + " " + q(dir.file("b.pds")) + " " + q(dir.file("c.pds"));
+  auto result = runToolWith(mpirun(), "learn" + inputs + " -o " + q(dir.file("d.pdd")) + kJob);
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.exit_code, 124) << "a rank hung";  // timeout's code
+  EXPECT_EQ(linesWith(result.err, "pcl_patchdict learn:"), 1u) << result.err;
+  EXPECT_NE(result.err.find("pcl_patchdict learn: error: input 2/3"), std::string::npos) << result.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("d.pdd")));
+
+  result = runToolWith(mpirun(), "learn" + inputs + " -o " + q(dir.file("d.pdd")) + kJob + " --skip-bad");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(jsonNumber(result.out, "inputs_skipped"), 1.0);
+  EXPECT_EQ(jsonNumber(result.out, "patches"), 400.0);
+  EXPECT_TRUE(std::filesystem::exists(dir.file("d.pdd")));
+
+  // A command-line error every rank meets alike is reported once too.
+  result = runToolWith(mpirun(), "learn" + inputs + " -o " + q(dir.file("e.pdd")) + kJob + " --atoms 0");
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_EQ(linesWith(result.err, "pcl_patchdict learn:"), 1u) << result.err;
+}
