@@ -56,11 +56,23 @@ OnlineDictionaryLearner::ShardStatistics OnlineDictionaryLearner::codeShard(cons
     throw Error("online learning: batch signals have " + std::to_string(batch.rows()) + " entries, the dictionary " +
                 std::to_string(dictionary_.rows()));
   detail::checkTrainingData(batch, mask, parameters_.num_atoms, parameters_.sparsity);
-  const Eigen::MatrixXd codes = detail::codeSignals(dictionary_, batch, mask, parameters_.sparsity);
+  const SparseCodes codes = detail::codeSignals(dictionary_, batch, mask, parameters_.sparsity);
   // EM step for missing entries: what the current dictionary predicts stands in for them.
-  shard.filled = mask.size() != 0 ? Eigen::MatrixXd(mask.select(batch, dictionary_ * codes)) : batch;
-  shard.a.noalias() = codes * codes.transpose();
-  shard.b.noalias() = shard.filled * codes.transpose();
+  if (mask.size() != 0)
+    shard.filled = mask.select(batch, Eigen::MatrixXd(dictionary_ * codes));
+  else
+    shard.filled = batch;
+  // A = Σ α αᵀ and B = Σ x αᵀ over the codes' non-zeros only (S² and n·S per signal, not the K²
+  // and n·K of dense products), signal after signal: a fixed order, whatever the batch.
+  shard.a = Eigen::MatrixXd::Zero(a_.rows(), a_.cols());
+  shard.b = Eigen::MatrixXd::Zero(b_.rows(), b_.cols());
+  for (Eigen::Index p = 0; p < codes.outerSize(); ++p) {
+    for (SparseCodes::InnerIterator i(codes, p); i; ++i) {
+      for (SparseCodes::InnerIterator j(codes, p); j; ++j)
+        shard.a(i.index(), j.index()) += i.value() * j.value();
+      shard.b.col(i.index()) += i.value() * shard.filled.col(p);
+    }
+  }
   return shard;
 }
 
