@@ -124,10 +124,6 @@ void readLearnLine(const Arguments& args, LearnRun& run)
   if (run.ranks > 1 && run.shards != run.ranks)
     throw UsageError("--shards " + std::to_string(run.shards) + " under mpirun with " + std::to_string(run.ranks) +
                      " ranks: one shard per rank");
-  if (run.shards > 1)
-    for (const char* name : {"checkpoint", "resume", "stop-after"})
-      if (args.has(name))
-        throw UsageError(std::string("--") + name + " is not available with several shards (or ranks) yet");
   if ((args.has("checkpoint-every") || args.has("stop-after")) && run.checkpoint_path.empty())
     throw UsageError("--checkpoint-every and --stop-after need --checkpoint FILE");
 
@@ -167,17 +163,16 @@ void readLearnLine(const Arguments& args, LearnRun& run)
          "  " + std::to_string(run.inputs.ignored) + " files in the input folders are neither .pds nor surfaces: ignored");
 }
 
-// 2a. What shapes an online result (--checkpoint-every and --stop-after do not), and where a
-// resumed run starts.
-void startOnline(const Arguments& args, LearnRun& run, OnlineDictionaryLearner& learner, PatchShuffleBuffer& buffer,
-                 const OnlineLearningParameters& parameters)
+// 2a. What shapes an online result (--checkpoint-every and --stop-after do not): the settings a
+// checkpoint records and a resumed run must match.
+void describeOnline(const Arguments& args, LearnRun& run)
 {
   LearningCheckpoint& progress = run.progress;
   progress.settings = {{"method", run.method},
-                       {"atoms", std::to_string(parameters.num_atoms)},
-                       {"sparsity", std::to_string(parameters.sparsity)},
-                       {"batch", std::to_string(parameters.batch_size)},
-                       {"seed", std::to_string(parameters.seed)},
+                       {"atoms", std::to_string(run.options.num_atoms)},
+                       {"sparsity", std::to_string(run.options.sparsity)},
+                       {"batch", std::to_string(run.options.batch_size)},
+                       {"seed", std::to_string(run.options.seed)},
                        {"iterations", std::to_string(run.passes)},
                        {"buffer", std::to_string(run.buffer_capacity)},
                        {"grid", args.has("grid") ? args.get("grid") : "(first input)"},
@@ -186,23 +181,47 @@ void startOnline(const Arguments& args, LearnRun& run, OnlineDictionaryLearner& 
                        {"skip-bad", run.skip_bad ? "yes" : "no"}};
   progress.num_inputs = run.num_inputs;
   progress.inputs_fingerprint = fingerprintInputs(run.inputs.paths);
+}
+
+/** The checkpoint to resume from, checked against this run (settings, inputs, shard count). */
+LearningCheckpoint loadResumable(const LearnRun& run)
+{
+  LearningCheckpoint saved = LearningCheckpoint::load(run.resume_path);
+  checkResumable(saved, run.progress, run.resume_path);
+  const std::size_t shards = run.shards > 1 ? static_cast<std::size_t>(run.shards) : 0;
+  if (saved.shards.size() != shards)
+    throw Error("cannot resume from '" + run.resume_path + "': it was made by " +
+                std::to_string(std::max<std::size_t>(saved.shards.size(), 1)) + " shard(s) (or ranks), this run has " +
+                std::to_string(run.shards));
+  saved.settings = run.progress.settings;
+  return saved;
+}
+
+void noteResuming(LearnRun& run, const LearningCheckpoint& saved)
+{
+  run.grid_size = saved.grid_size;
+  run.resumed = true;
+  run.resumed_pass = saved.pass;
+  run.resumed_input = saved.next_input;
+  std::string where = "  resuming at pass " + std::to_string(std::min<int>(static_cast<int>(saved.pass) + 1, run.passes)) +
+                      "/" + std::to_string(run.passes);
+  if (saved.shards.empty())
+    where += ", input " + std::to_string(saved.next_input + 1) + "/" + std::to_string(run.num_inputs);
+  note(run.quiet, where);
+}
+
+// 2b. Where a resumed one-shard run starts.
+void startOnline(LearnRun& run, OnlineDictionaryLearner& learner, PatchShuffleBuffer& buffer)
+{
   if (run.resume_path.empty())
     return;
-  LearningCheckpoint saved = LearningCheckpoint::load(run.resume_path);
-  checkResumable(saved, progress, run.resume_path);
+  LearningCheckpoint saved = loadResumable(run);
   learner.setState(saved.learner);
   buffer.setState(saved.buffer);
-  saved.settings = progress.settings;
-  progress = std::move(saved);
-  progress.learner = OnlineDictionaryLearner::State();  // restored above; not kept twice
-  progress.buffer = PatchShuffleBuffer::State();
-  run.grid_size = progress.grid_size;
-  run.resumed = true;
-  run.resumed_pass = progress.pass;
-  run.resumed_input = progress.next_input;
-  note(run.quiet, "  resuming at pass " + std::to_string(std::min<int>(static_cast<int>(progress.pass) + 1, run.passes)) +
-                      "/" + std::to_string(run.passes) + ", input " + std::to_string(progress.next_input + 1) + "/" +
-                      std::to_string(run.num_inputs));
+  noteResuming(run, saved);
+  run.progress = std::move(saved);
+  run.progress.learner = OnlineDictionaryLearner::State();  // restored above; not kept twice
+  run.progress.buffer = PatchShuffleBuffer::State();
 }
 
 // 2. Online learning: the inputs streamed through a shuffle buffer, pass after pass, checkpointed.
@@ -216,7 +235,8 @@ void learnOnline(const Arguments& args, LearnRun& run)
   parameters.seed = run.options.seed;
   OnlineDictionaryLearner learner(parameters);
   PatchShuffleBuffer buffer(run.buffer_capacity, parameters.batch_size, parameters.seed);
-  startOnline(args, run, learner, buffer, parameters);
+  describeOnline(args, run);
+  startOnline(run, learner, buffer);
   const auto saveCheckpoint = [&]() {
     if (run.checkpoint_path.empty())
       return;
@@ -304,10 +324,22 @@ void learnOnline(const Arguments& args, LearnRun& run)
   }
 }
 
-// 2b. Online learning over several shards (in this process, or one per MPI rank).
-void learnOnlineSharded(LearnRun& run, const Ranks& ranks)
+// 2c. Online learning over several shards (in this process, or one per MPI rank).
+void learnOnlineSharded(const Arguments& args, LearnRun& run, const Ranks& ranks)
 {
+  describeOnline(args, run);
+  run.progress.settings.emplace_back("shards", std::to_string(run.shards));
+  LearningCheckpoint saved;
+  if (!run.resume_path.empty()) {
+    ranks.agree([&]() { saved = loadResumable(run); });  // every rank reads it (shared storage)
+    noteResuming(run, saved);
+  }
   ShardedLearningJob job;
+  job.checkpoint_path = run.checkpoint_path;
+  job.checkpoint_every = run.checkpoint_every;
+  job.stop_after = run.stop_after;
+  job.checkpoint = run.progress;
+  job.resume = run.resume_path.empty() ? nullptr : &saved;
   job.paths = run.inputs.paths;
   job.shards = run.shards;
   job.passes = run.passes;
@@ -333,11 +365,14 @@ void learnOnlineSharded(LearnRun& run, const Ranks& ranks)
   run.batches = result.rounds;
   run.cache_reads = result.cache_reads;
   run.cache_bytes = result.cache_bytes;
+  run.complete = result.complete;
+  run.checkpoints_written = result.checkpoints_written;
   run.round_seconds.add("read", result.seconds_read)
       .add("code", result.seconds_code)
       .add("exchange", result.seconds_exchange)
       .add("update", result.seconds_update);
-  run.dictionary.setAtoms(result.dictionary, result.patches, run.options);
+  if (run.complete)
+    run.dictionary.setAtoms(result.dictionary, result.patches, run.options);
 }
 
 // 3. K-SVD needs every patch at once: the inputs are appended in memory.
@@ -447,7 +482,7 @@ int runLearn(const std::vector<std::string>& raw)
   StageTimer timer(run.quiet || run.rank > 0);
   if (run.online && run.shards > 1) {
     timer.start("learn");
-    learnOnlineSharded(run, ranks);
+    learnOnlineSharded(args, run, ranks);
   } else if (run.online) {
     timer.start("learn");
     learnOnline(args, run);

@@ -174,6 +174,27 @@ std::vector<std::string> Ranks::allGatherBytes(const std::string& mine) const
   return all;
 }
 
+std::vector<std::string> Ranks::gatherBytes(const std::string& mine) const
+{
+  if (size_ == 1)
+    return {mine};
+  const std::vector<std::int64_t> lengths = allGather(std::vector<std::int64_t>{static_cast<std::int64_t>(mine.size())});
+  std::vector<std::string> all;
+#ifdef PCL_PATCHDICT_WITH_MPI
+  if (rank_ != 0) {
+    MPI_Send(mine.data(), checkedCount(mine.size()), MPI_CHAR, 0, 1, MPI_COMM_WORLD);
+    return all;
+  }
+  all.push_back(mine);
+  for (int r = 1; r < size_; ++r) {
+    std::string bytes(static_cast<std::size_t>(lengths[static_cast<std::size_t>(r)]), '\0');
+    MPI_Recv(bytes.data(), checkedCount(bytes.size()), MPI_CHAR, r, 1, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    all.push_back(std::move(bytes));
+  }
+#endif
+  return all;
+}
+
 void Ranks::agree(const std::function<void()>& work) const
 {
   if (size_ == 1) {

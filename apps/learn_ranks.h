@@ -42,6 +42,8 @@ public:
   /** Every rank's vector (the same length on every rank), concatenated in rank order. */
   std::vector<std::int64_t> allGather(const std::vector<std::int64_t>& mine) const;
   std::vector<double> allGather(const std::vector<double>& mine) const;
+  /** Every rank's bytes, in rank order, on rank 0 (empty elsewhere). */
+  std::vector<std::string> gatherBytes(const std::string& mine) const;
   /** Every rank's bytes, in rank order (lengths may differ). */
   std::vector<std::string> allGatherBytes(const std::string& mine) const;
 

@@ -81,7 +81,63 @@ public:
     return true;
   }
 
+  /** Where the shard stands at a round's end (for a checkpoint). */
+  ShardProgress progress() const
+  {
+    ShardProgress p;
+    p.begun = cursor_;
+    p.streaming = column_ < current_.heights.cols();
+    p.next_column = p.streaming ? static_cast<std::uint64_t>(column_) : 0;
+    p.flushed = flushed_;
+    p.grid_size = grid_size_;
+    p.patches = patches;
+    p.patches_streamed = streamed;
+    p.patches_coded = coded;
+    p.max_input_patches = max_input_patches;
+    p.observed_sum = observed_sum;
+    p.skipped = skipped;
+    p.buffer = buffer_.state();
+    for (const Batch& batch : ready_) {
+      p.ready.push_back(batch.signals);
+      p.ready_masks.push_back(batch.mask);
+    }
+    return p;
+  }
+
+  /** Continues from a checkpoint's progress, in pass `pass`: the input it was streaming is read
+    * again (without counting it twice). */
+  void restore(const ShardProgress& p, int pass)
+  {
+    pass_ = pass;
+    if (p.begun > inputs_.size() || (p.streaming && p.begun == 0) || p.ready.size() != p.ready_masks.size())
+      throw Error("cannot resume: shard " + std::to_string(shard_ + 1) + "'s progress does not fit its inputs");
+    cursor_ = static_cast<std::size_t>(p.begun);
+    flushed_ = p.flushed;
+    grid_size_ = p.grid_size;
+    patches = p.patches;
+    streamed = p.patches_streamed;
+    coded = p.patches_coded;
+    max_input_patches = static_cast<std::size_t>(p.max_input_patches);
+    observed_sum = p.observed_sum;
+    skipped = p.skipped;
+    buffer_.setState(p.buffer);
+    ready_.clear();
+    for (std::size_t i = 0; i < p.ready.size(); ++i)
+      ready_.push_back({p.ready[i], p.ready_masks[i]});
+    current_ = PatchSet();
+    column_ = 0;
+    if (p.streaming) {
+      const std::string& path = job_.paths[inputs_[cursor_ - 1]];
+      current_ = loadInputPatches(path, job_.surface_options, grid_size_);
+      if (p.next_column >= static_cast<std::uint64_t>(current_.heights.cols()))
+        throw Error("cannot resume: '" + path + "' has fewer patches than when the checkpoint was written");
+      column_ = static_cast<Eigen::Index>(p.next_column);
+      current_mask_ = current_.observed.all() ? ObservationMask() : current_.observed;
+    }
+  }
+
   int index() const { return shard_; }
+  std::size_t begunThisRun() const { return begun_this_run_; }
   std::size_t highWater() const { return buffer_.highWater(); }
   std::uintmax_t cacheBytes() const { return cache_.bytes(); }
 
@@ -93,6 +149,7 @@ public:
 private:
   void read(std::size_t i)
   {
+    ++begun_this_run_;
     const std::string& path = job_.paths[i];
     const std::string where = "input " + std::to_string(i + 1) + "/" + std::to_string(job_.paths.size());
     current_ = PatchSet();
@@ -148,6 +205,7 @@ private:
   ObservationMask current_mask_;
   Eigen::Index column_ = 0;
   std::deque<Batch> ready_;
+  std::size_t begun_this_run_ = 0;
 };
 
 /** An error every rank knows of alike: reported once, by rank 0. */
@@ -280,6 +338,31 @@ private:
   std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
 
+/** Rank 0 writes the run's state: the common learner and every shard's progress (gathered). */
+void writeCheckpoint(const ShardedLearningJob& job, const Ranks& ranks,
+                     const std::vector<std::unique_ptr<ShardStream>>& local, const OnlineDictionaryLearner& learner,
+                     int pass, Eigen::Index rows)
+{
+  LearningCheckpoint checkpoint = job.checkpoint;
+  checkpoint.pass = static_cast<std::uint32_t>(pass);
+  checkpoint.grid_size = static_cast<std::int32_t>(std::lround(std::sqrt(static_cast<double>(rows))));
+  checkpoint.learner = learner.state();
+  if (ranks.size() == 1) {
+    for (const auto& shard : local)
+      checkpoint.shards.push_back(shard->progress());
+  } else {
+    LearningCheckpoint mine;  // one shard's progress, in the checkpoint's own bytes
+    mine.num_inputs = job.paths.size();
+    mine.shards.push_back(local.front()->progress());
+    for (const std::string& bytes : ranks.gatherBytes(mine.toBytes()))
+      checkpoint.shards.push_back(LearningCheckpoint::fromBytes(bytes, "rank's progress").shards.front());
+  }
+  ranks.agree([&]() {
+    if (ranks.rank() == 0)
+      checkpoint.save(job.checkpoint_path);
+  });
+}
+
 }  // namespace
 
 ShardedLearningResult learnSharded(const ShardedLearningJob& job, const Ranks& ranks)
@@ -298,10 +381,31 @@ ShardedLearningResult learnSharded(const ShardedLearningJob& job, const Ranks& r
   OnlineDictionaryLearner learner(job.parameters);
   ShardedLearningResult result;
   Eigen::Index rows = 0;
+  int first_pass = 0;
+  if (job.resume != nullptr) {
+    if (job.resume->shards.size() != static_cast<std::size_t>(job.shards))
+      throw Error("cannot resume: the checkpoint holds " + std::to_string(job.resume->shards.size()) + " shards, the run " +
+                  std::to_string(job.shards));
+    learner.setState(job.resume->learner);
+    first_pass = static_cast<int>(job.resume->pass);
+    rows = job.resume->learner.dictionary.rows();
+    ranks.agree([&]() {
+      for (auto& shard : local)
+        shard->restore(job.resume->shards[static_cast<std::size_t>(shard->index())], std::min(first_pass, job.passes - 1));
+    });
+  }
+  const auto checkpoint = [&](int pass) {
+    if (!job.checkpoint_path.empty()) {
+      writeCheckpoint(job, ranks, local, learner, pass, rows);
+      ++result.checkpoints_written;
+    }
+  };
+  std::size_t checkpoints_due = 0;
   PartClock clock;
-  for (int pass = 0; pass < job.passes; ++pass) {
-    for (auto& shard : local)
-      shard->startPass(pass);
+  for (int pass = first_pass; pass < job.passes && result.complete; ++pass) {
+    if (job.resume == nullptr || pass != first_pass)
+      for (auto& shard : local)
+        shard->startPass(pass);
     for (;;) {
       // 1. Every shard's next sub-batch; every rank learns every shard's size.
       std::vector<Batch> batches(local.size());
@@ -311,19 +415,22 @@ ShardedLearningResult learnSharded(const ShardedLearningJob& job, const Ranks& r
           const bool got = local[i]->next(batches[i]);
           header.push_back(got ? batches[i].signals.rows() : 0);
           header.push_back(got ? batches[i].signals.cols() : 0);
+          header.push_back(static_cast<std::int64_t>(local[i]->begunThisRun()));
         }
       });
       clock.to(result.seconds_read);
       const std::vector<std::int64_t> sizes = ranks.allGather(header);
       std::vector<Eigen::Index> offsets(1, 0);
+      std::size_t begun = 0;  // inputs begun in this run, over all shards
       for (int s = 0; s < job.shards; ++s) {
-        const Eigen::Index shard_rows = sizes[2 * static_cast<std::size_t>(s)];
+        begun += static_cast<std::size_t>(sizes[3 * static_cast<std::size_t>(s) + 2]);
+        const Eigen::Index shard_rows = sizes[3 * static_cast<std::size_t>(s)];
         if (shard_rows != 0 && rows != 0 && shard_rows != rows)
           failTogether(ranks, "shard " + std::to_string(s + 1) + "'s patches have " + std::to_string(shard_rows) +
                                   " bins, the others' " + std::to_string(rows) + " (give --grid)");
         if (shard_rows != 0)
           rows = shard_rows;
-        offsets.push_back(offsets.back() + sizes[2 * static_cast<std::size_t>(s) + 1]);
+        offsets.push_back(offsets.back() + sizes[3 * static_cast<std::size_t>(s) + 1]);
       }
       const Eigen::Index total = offsets.back();
       if (total == 0)
@@ -366,7 +473,21 @@ ShardedLearningResult learnSharded(const ShardedLearningJob& job, const Ranks& r
       learner.applyRound(a, b, total, restart);
       clock.to(result.seconds_update);
       ++result.rounds;
+      // 5. Checkpoints and stops fall on a round's end, where every shard's state is whole.
+      if (job.stop_after > 0 && begun >= job.stop_after) {
+        result.complete = false;
+        checkpoint(pass);
+        break;
+      }
+      if (job.checkpoint_every > 0 && begun / job.checkpoint_every > checkpoints_due) {
+        checkpoints_due = begun / job.checkpoint_every;
+        checkpoint(pass);
+      }
     }
+  }
+  if (!result.complete) {
+    gatherCounters(local, ranks, result);
+    return result;
   }
   gatherCounters(local, ranks, result);
   if (result.patches == 0 || !learner.initialised())
@@ -374,6 +495,7 @@ ShardedLearningResult learnSharded(const ShardedLearningJob& job, const Ranks& r
                                                                   : "the inputs hold no patches");
   result.dictionary = learner.dictionary();
   result.grid_size = static_cast<int>(std::lround(std::sqrt(static_cast<double>(rows))));
+  checkpoint(job.passes);  // the finished state: resuming from it only writes the dictionary again
   return result;
 }
 

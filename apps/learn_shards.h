@@ -6,6 +6,7 @@
 #include "surface_patches.h"
 
 #include <pcl_patchdict/coding/dictionary_learning.h>
+#include <pcl_patchdict/coding/learning_checkpoint.h>
 
 #include <cstdint>
 #include <string>
@@ -31,6 +32,15 @@ struct ShardedLearningJob {
   SurfacePatchOptions surface_options;
   int grid_size = 0;  ///< imposed (--grid), or 0: each shard's first input's
   OnlineLearningParameters parameters;
+  /** Checkpoints (rank 0 writes them): at the end of the first round after every
+    * `checkpoint_every` inputs begun (over all shards), at a stop, and at the end. `checkpoint`
+    * holds the settings, fingerprint and input count to record; `stop_after` > 0 stops at the end
+    * of the first round after that many inputs were begun in this run. */
+  std::string checkpoint_path;
+  std::size_t checkpoint_every = 0, stop_after = 0;
+  LearningCheckpoint checkpoint;
+  /** A sharded checkpoint to continue from (its shards the job's), or null. */
+  const LearningCheckpoint* resume = nullptr;
 };
 
 /** What it made: the same on every rank. */
@@ -44,6 +54,8 @@ struct ShardedLearningResult {
   std::vector<std::uint64_t> patches_coded;                    ///< per shard, over all passes
   std::size_t rounds = 0, max_input_patches = 0, max_buffered = 0, cache_reads = 0;
   std::uint64_t cache_bytes = 0;
+  bool complete = true;                ///< false: stopped (stop_after), resumable
+  std::size_t checkpoints_written = 0;
   /** Rank 0's wall time in the parts of the rounds (the cost model of docs/performance.md): its
     * shards' reading and buffering, their coding (codeShard), the exchanges between ranks
     * (headers, the sum of A and B, which also waits for the slowest rank), and the atom update. */

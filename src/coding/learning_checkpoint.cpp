@@ -16,7 +16,7 @@ namespace patchdict {
 namespace {
 
 constexpr char kMagic[8] = {'P', 'C', 'L', 'P', 'D', 'K', '\0', '\x1a'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;  // 2: shards (version 1 is read too)
 constexpr std::uint64_t kMaxRows = 1 << 16;  // 256 × 256 bins, as .pdd allows
 constexpr std::uint64_t kMaxString = 1 << 20;
 
@@ -87,6 +87,105 @@ ObservationMask getMask(detail::ByteReader& in)
   return mask;
 }
 
+void putSkipped(detail::ByteWriter& out, const std::vector<std::pair<std::uint64_t, std::string>>& skipped)
+{
+  out.putU64(skipped.size());
+  for (const auto& entry : skipped) {
+    out.putU64(entry.first);
+    putString(out, entry.second);
+  }
+}
+
+std::vector<std::pair<std::uint64_t, std::string>> getSkipped(detail::ByteReader& in, std::uint64_t num_inputs)
+{
+  const std::uint64_t count = in.getU64();
+  if (count > in.remaining() / 16 || count > num_inputs)
+    throw Error(in.what() + "implausible number of skipped inputs");
+  std::vector<std::pair<std::uint64_t, std::string>> skipped;
+  for (std::uint64_t i = 0; i < count; ++i) {
+    const std::uint64_t index = in.getU64();
+    skipped.emplace_back(index, getString(in));
+  }
+  return skipped;
+}
+
+void putBuffer(detail::ByteWriter& out, const PatchShuffleBuffer::State& buffer)
+{
+  putMatrix(out, buffer.buffered);
+  putMask(out, buffer.buffered_mask);
+  putMatrix(out, buffer.pending);
+  putMask(out, buffer.pending_mask);
+  putString(out, buffer.rng);
+  out.putU64(buffer.high_water);
+}
+
+PatchShuffleBuffer::State getBuffer(detail::ByteReader& in)
+{
+  PatchShuffleBuffer::State buffer;
+  buffer.buffered = getMatrix(in);
+  buffer.buffered_mask = getMask(in);
+  buffer.pending = getMatrix(in);
+  buffer.pending_mask = getMask(in);
+  buffer.rng = getString(in);
+  buffer.high_water = in.getU64();
+  if (buffer.buffered_mask.rows() != buffer.buffered.rows() || buffer.buffered_mask.cols() != buffer.buffered.cols() ||
+      buffer.pending_mask.rows() != buffer.pending.rows() || buffer.pending_mask.cols() != buffer.pending.cols())
+    throw Error(in.what() + "the buffer's masks do not match its patches");
+  return buffer;
+}
+
+void putShard(detail::ByteWriter& out, const ShardProgress& shard)
+{
+  out.putU64(shard.begun);
+  out.putU64(shard.next_column);
+  out.putU8(shard.streaming ? 1 : 0);
+  out.putU8(shard.flushed ? 1 : 0);
+  out.putU32(static_cast<std::uint32_t>(shard.grid_size));
+  out.putU64(shard.patches);
+  out.putU64(shard.patches_streamed);
+  out.putU64(shard.patches_coded);
+  out.putU64(shard.max_input_patches);
+  out.putF64(shard.observed_sum);
+  putSkipped(out, shard.skipped);
+  putBuffer(out, shard.buffer);
+  out.putU64(shard.ready.size());
+  for (std::size_t i = 0; i < shard.ready.size(); ++i) {
+    putMatrix(out, shard.ready[i]);
+    putMask(out, shard.ready_masks[i]);
+  }
+}
+
+ShardProgress getShard(detail::ByteReader& in, std::uint64_t num_inputs)
+{
+  ShardProgress shard;
+  shard.begun = in.getU64();
+  shard.next_column = in.getU64();
+  const std::uint8_t streaming = in.getU8(), flushed = in.getU8();
+  shard.grid_size = static_cast<std::int32_t>(in.getU32());
+  if (streaming > 1 || flushed > 1 || shard.begun > num_inputs || shard.grid_size < 0 || shard.grid_size > 256)
+    throw Error(in.what() + "implausible shard progress");
+  shard.streaming = streaming == 1;
+  shard.flushed = flushed == 1;
+  shard.patches = in.getU64();
+  shard.patches_streamed = in.getU64();
+  shard.patches_coded = in.getU64();
+  shard.max_input_patches = in.getU64();
+  shard.observed_sum = in.getF64();
+  shard.skipped = getSkipped(in, num_inputs);
+  shard.buffer = getBuffer(in);
+  const std::uint64_t ready = in.getU64();
+  if (ready > in.remaining() / 32)
+    throw Error(in.what() + "implausible number of sub-batches");
+  for (std::uint64_t i = 0; i < ready; ++i) {
+    shard.ready.push_back(getMatrix(in));
+    shard.ready_masks.push_back(getMask(in));
+    const ObservationMask& mask = shard.ready_masks.back();
+    if (mask.size() != 0 && (mask.rows() != shard.ready.back().rows() || mask.cols() != shard.ready.back().cols()))
+      throw Error(in.what() + "a sub-batch's mask does not match it");
+  }
+  return shard;
+}
+
 }  // namespace
 
 std::string LearningCheckpoint::toBytes() const
@@ -96,7 +195,13 @@ std::string LearningCheckpoint::toBytes() const
   detail::ByteWriter out;
   // The buffer dominates (41 MB at the default size): one allocation, not a doubling string.
   const auto matrixBytes = [](Eigen::Index size, std::size_t entry) { return 16 + entry * static_cast<std::size_t>(size); };
-  out.bytes().reserve(4096 + learner.rng.size() + buffer.rng.size() + matrixBytes(learner.dictionary.size(), 8) +
+  std::size_t shard_bytes = 0;
+  for (const ShardProgress& shard : shards) {
+    shard_bytes += 4096 + matrixBytes(shard.buffer.buffered.size(), 9) + matrixBytes(shard.buffer.pending.size(), 9);
+    for (const Eigen::MatrixXd& batch : shard.ready)
+      shard_bytes += matrixBytes(batch.size(), 9);
+  }
+  out.bytes().reserve(4096 + shard_bytes + learner.rng.size() + buffer.rng.size() + matrixBytes(learner.dictionary.size(), 8) +
                       matrixBytes(learner.a.size(), 8) + matrixBytes(learner.b.size(), 8) +
                       matrixBytes(buffer.buffered.size(), 9) + matrixBytes(buffer.pending.size(), 9));
   out.putRaw(kMagic, sizeof kMagic);
@@ -114,11 +219,7 @@ std::string LearningCheckpoint::toBytes() const
   out.putU64(patches);
   out.putU64(patches_streamed);
   out.putF64(observed_sum);
-  out.putU64(skipped.size());
-  for (const auto& entry : skipped) {
-    out.putU64(entry.first);
-    putString(out, entry.second);
-  }
+  putSkipped(out, skipped);
   const OnlineLearningParameters& parameters = learner.parameters;
   out.putU32(static_cast<std::uint32_t>(parameters.num_atoms));
   out.putU32(static_cast<std::uint32_t>(parameters.sparsity));
@@ -130,12 +231,10 @@ std::string LearningCheckpoint::toBytes() const
   out.putU64(learner.seen);
   out.putU64(learner.steps);
   putString(out, learner.rng);
-  putMatrix(out, buffer.buffered);
-  putMask(out, buffer.buffered_mask);
-  putMatrix(out, buffer.pending);
-  putMask(out, buffer.pending_mask);
-  putString(out, buffer.rng);
-  out.putU64(buffer.high_water);
+  putBuffer(out, buffer);
+  out.putU64(shards.size());
+  for (const ShardProgress& shard : shards)
+    putShard(out, shard);
   out.putU64(fnv1a64(out.bytes().data(), out.bytes().size()));
   return out.bytes();
 }
@@ -161,7 +260,7 @@ LearningCheckpoint LearningCheckpoint::fromBytes(const std::string& bytes, const
     throw Error(where + "file is truncated (" + std::to_string(bytes.size()) + " bytes)");
   std::uint32_t version;
   std::memcpy(&version, bytes.data() + sizeof kMagic, sizeof version);
-  if (version != kVersion)
+  if (version != kVersion && version != 1)
     throw Error(where + "format version " + std::to_string(version) + " (this build reads version " +
                 std::to_string(kVersion) + ")");
   std::uint64_t stored;
@@ -185,13 +284,7 @@ LearningCheckpoint LearningCheckpoint::fromBytes(const std::string& bytes, const
   checkpoint.patches = in.getU64();
   checkpoint.patches_streamed = in.getU64();
   checkpoint.observed_sum = in.getF64();
-  const std::uint64_t num_skipped = in.getU64();
-  if (num_skipped > in.remaining() / 16 || num_skipped > checkpoint.num_inputs)
-    throw Error(where + "implausible number of skipped inputs");
-  for (std::uint64_t i = 0; i < num_skipped; ++i) {
-    const std::uint64_t index = in.getU64();
-    checkpoint.skipped.emplace_back(index, getString(in));
-  }
+  checkpoint.skipped = getSkipped(in, checkpoint.num_inputs);
   if (checkpoint.next_input > checkpoint.num_inputs || checkpoint.grid_size < 0 || checkpoint.grid_size > 256)
     throw Error(where + "implausible progress fields");
   OnlineLearningParameters& parameters = checkpoint.learner.parameters;
@@ -205,16 +298,14 @@ LearningCheckpoint LearningCheckpoint::fromBytes(const std::string& bytes, const
   checkpoint.learner.seen = in.getU64();
   checkpoint.learner.steps = in.getU64();
   checkpoint.learner.rng = getString(in);
-  checkpoint.buffer.buffered = getMatrix(in);
-  checkpoint.buffer.buffered_mask = getMask(in);
-  checkpoint.buffer.pending = getMatrix(in);
-  checkpoint.buffer.pending_mask = getMask(in);
-  checkpoint.buffer.rng = getString(in);
-  checkpoint.buffer.high_water = in.getU64();
-  const PatchShuffleBuffer::State& buffer = checkpoint.buffer;
-  if (buffer.buffered_mask.rows() != buffer.buffered.rows() || buffer.buffered_mask.cols() != buffer.buffered.cols() ||
-      buffer.pending_mask.rows() != buffer.pending.rows() || buffer.pending_mask.cols() != buffer.pending.cols())
-    throw Error(where + "the buffer's masks do not match its patches");
+  checkpoint.buffer = getBuffer(in);
+  if (version >= 2) {
+    const std::uint64_t num_shards = in.getU64();
+    if (num_shards > 4096 || num_shards > in.remaining() / 64)
+      throw Error(where + "implausible number of shards");
+    for (std::uint64_t s = 0; s < num_shards; ++s)
+      checkpoint.shards.push_back(getShard(in, checkpoint.num_inputs));
+  }
   if (!in.atEnd())
     throw Error(where + std::to_string(in.remaining()) + " unexpected bytes before the checksum");
   return checkpoint;

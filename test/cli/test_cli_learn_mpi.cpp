@@ -95,12 +95,9 @@ TEST(CliLearnShards, ShardsInOneProcessSplitTheInputsAndCodeEveryPatch)
   };
   const double e1 = error(*d1), e2 = error(*d2);
   EXPECT_LT(std::abs(e1 - e2), 0.1 * e1) << e1 << " " << e2;
-  // Shards need online learning and at least one patch each per batch; no checkpoints yet.
+  // Shards need online learning and at least one patch each per batch.
   EXPECT_EQ(runTool("learn" + inputs + " -o " + q(dir.file("x.pdd")) + kJob + " --shards 41").exit_code, 1);
-  EXPECT_EQ(runTool("learn" + inputs + " -o " + q(dir.file("x.pdd")) + kJob + " --shards 2 --checkpoint " +
-                    q(dir.file("c.pdk")))
-                .exit_code,
-            2);
+  EXPECT_EQ(runTool("learn" + inputs + " -o " + q(dir.file("x.pdd")) + kJob + " --shards 2 --method ksvd").exit_code, 2);
   EXPECT_FALSE(std::filesystem::exists(dir.file("x.pdd")));
 }
 
@@ -153,4 +150,42 @@ TEST(CliLearnShards, ABadInputOnOneRankStopsEveryRankWithOneErrorLine)
   result = runToolWith(mpirun(), "learn" + inputs + " -o " + q(dir.file("e.pdd")) + kJob + " --atoms 0");
   EXPECT_NE(result.exit_code, 0);
   EXPECT_EQ(linesWith(result.err, "pcl_patchdict learn:"), 1u) << result.err;
+}
+
+TEST(CliLearnShards, StoppedAndResumedShardsGiveTheUninterruptedDictionary)
+{
+  test_support::TempDir dir;
+  std::string inputs;
+  for (int i = 0; i < 4; ++i) {
+    writeSet(dir.file("s" + std::to_string(i) + ".pds"), 40 + static_cast<std::uint64_t>(i), 100 + 30 * i);
+    inputs += " " + q(dir.file("s" + std::to_string(i) + ".pds"));
+  }
+  const std::string job = "learn" + inputs + kJob + " --shards 2";
+  const auto whole = runTool(job + " -o " + q(dir.file("whole.pdd")));
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+  // Stopped after 3 inputs begun (mid-pass), resumed with a checkpoint after every input.
+  auto part = runTool(job + " -o " + q(dir.file("part.pdd")) + " --checkpoint " + q(dir.file("c.pdk")) +
+                      " --stop-after 3");
+  ASSERT_EQ(part.exit_code, 0) << part.err;
+  EXPECT_NE(part.out.find("\"complete\": false"), std::string::npos) << part.out;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("part.pdd")));
+  part = runTool(job + " -o " + q(dir.file("part.pdd")) + " --resume " + q(dir.file("c.pdk")) + " --checkpoint " +
+                 q(dir.file("c.pdk")) + " --checkpoint-every 1");
+  ASSERT_EQ(part.exit_code, 0) << part.err;
+  EXPECT_GE(jsonNumber(part.out, "checkpoints_written"), 3.0);
+  EXPECT_EQ(readFile(dir.file("part.pdd")), readFile(dir.file("whole.pdd")));
+  // Another shard count cannot continue it.
+  const auto other = runTool("learn" + inputs + kJob + " -o " + q(dir.file("o.pdd")) + " --resume " + q(dir.file("c.pdk")));
+  EXPECT_EQ(other.exit_code, 1);
+  EXPECT_NE(other.err.find("shard"), std::string::npos) << other.err;
+
+  if (mpirun().empty())
+    return;
+  // The same stop and resume on two ranks: rank 0 writes the checkpoint, both continue from it.
+  auto ranks = runToolWith(mpirun(), "learn" + inputs + kJob + " -o " + q(dir.file("r.pdd")) + " --checkpoint " +
+                                         q(dir.file("r.pdk")) + " --stop-after 3");
+  ASSERT_EQ(ranks.exit_code, 0) << ranks.err;
+  ranks = runToolWith(mpirun(), "learn" + inputs + kJob + " -o " + q(dir.file("r.pdd")) + " --resume " + q(dir.file("r.pdk")));
+  ASSERT_EQ(ranks.exit_code, 0) << ranks.err;
+  EXPECT_EQ(readFile(dir.file("r.pdd")), readFile(dir.file("whole.pdd")));
 }

@@ -25,6 +25,23 @@ namespace patchdict {
   *
   * File layout (.pdk, little-endian): magic "PCLPDK\0\x1a", version, then the fields below in
   * order (strings and matrices with their sizes first), then FNV-1a 64 of everything before it. */
+/** \brief Where one shard of a sharded run (`learn --shards S`, or S MPI ranks) stood at a round's
+  * end: its position in its own inputs, its shuffle buffer, the sub-batches it had made but not
+  * yet handed over (a flush makes several at once), and its counters. */
+struct ShardProgress {
+  std::uint64_t begun = 0;         ///< of the shard's inputs, how many this pass has begun
+  std::uint64_t next_column = 0;   ///< next patch of the input begun last, if it is still streaming
+  bool streaming = false;          ///< that input has patches left (a resumed run reads it again)
+  bool flushed = false;            ///< the pass's inputs are all in and the buffer flushed
+  std::int32_t grid_size = 0;      ///< of the shard's patches so far (0: none yet)
+  std::uint64_t patches = 0, patches_streamed = 0, patches_coded = 0, max_input_patches = 0;
+  double observed_sum = 0.0;
+  std::vector<std::pair<std::uint64_t, std::string>> skipped;  ///< input index, reason
+  PatchShuffleBuffer::State buffer;
+  std::vector<Eigen::MatrixXd> ready;        ///< sub-batches made, not yet handed over
+  std::vector<ObservationMask> ready_masks;  ///< theirs (empty: all observed)
+};
+
 struct LearningCheckpoint {
   std::vector<std::pair<std::string, std::string>> settings;
   std::uint64_t inputs_fingerprint = 0;
@@ -40,6 +57,10 @@ struct LearningCheckpoint {
 
   OnlineDictionaryLearner::State learner;
   PatchShuffleBuffer::State buffer;
+  /** A sharded run's shards (then `buffer`, `next_input` and the counters above are unused; the
+    * learner is common); empty for a one-shard run. Version 2 of the format; version 1 files
+    * (before shards) are read with none. */
+  std::vector<ShardProgress> shards;
 
   /** Atomic write (writeFileAtomically). */
   void save(const std::string& path) const;
