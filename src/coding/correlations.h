@@ -16,6 +16,13 @@ namespace detail {
 void computeCorrelations(const Eigen::MatrixXd& dictionary, const Eigen::Ref<const Eigen::MatrixXd>& signals,
                          Eigen::MatrixXd& out);
 
+/** One Batch-OMP step over a precomputed Gram matrix: alpha = alpha0 − Σ_i gamma(i)·columns[i]
+  * (the chosen atoms' Gram columns, summed in order i), and the index of the first largest
+  * weight(k)·|alpha(k)| above `threshold` (weight 0 excludes an atom), or −1. AVX2 + FMA where
+  * computeCorrelations uses them, plain loops (the same order, without FMA) elsewhere. */
+int updateCorrelationsAndPick(const double* alpha0, const double* const* columns, const double* gamma, int size,
+                              int num_atoms, const double* weight, double threshold, double* alpha);
+
 /** True when computeCorrelations runs the AVX2 kernel on this CPU. */
 bool correlationsUseAvx2();
 

@@ -69,6 +69,8 @@ struct Workspace {
   Eigen::MatrixXd gram_selected;  // G_{:,I} (K × S)
   Eigen::VectorXd alpha, gamma, beta, rhs, w;
   std::vector<char> selected;
+  std::vector<double> factor, forward, gamma_flat, w_flat, alpha_flat, weight;  // ompKernelFullGram's
+  std::vector<const double*> columns;
   void reserve(Eigen::Index num_atoms, int max_atoms)
   {
     if (lower.rows() < max_atoms)
@@ -160,6 +162,99 @@ void ompKernel(Gram& gram, const Eigen::Ref<const Eigen::VectorXd>& alpha0, doub
   coefficients.assign(work.gamma.data(), work.gamma.data() + std::min<Eigen::Index>(work.gamma.size(), static_cast<Eigen::Index>(atoms.size())));
 }
 
+// The same iteration over a precomputed Gram matrix, for every atom usable: the Cholesky factor in
+// a small row-major array, its forward solve kept from one iteration to the next (adding an atom
+// adds a row), and α = α0 − G_I γ fused with the next argmax over contiguous Gram columns
+// (detail::updateCorrelationsAndPick: AVX2 where available) — no Eigen dispatch or allocation per
+// iteration, which cost more than the arithmetic at S ≤ 20; the last iteration skips the update
+// when nothing reads it.
+void ompKernelFullGram(const Eigen::MatrixXd& gram, const double* alpha0, double signal_squared_norm,
+                       Eigen::Index entries, const SparseCodingParameters& parameters, Workspace& work,
+                       std::vector<int>& atoms, std::vector<double>& coefficients)
+{
+  const int num_atoms = static_cast<int>(gram.rows());
+  const int max_atoms = std::min(parameters.max_atoms, num_atoms);
+  atoms.clear();
+  coefficients.clear();
+  if (max_atoms <= 0)
+    return;
+  const double budget = std::max(parameters.max_squared_error,
+                                 parameters.max_squared_error_per_entry * static_cast<double>(entries));
+  const bool error_stop = budget > 0.0;
+  const std::size_t s = static_cast<std::size_t>(max_atoms);
+  work.factor.resize(s * s);
+  work.forward.resize(s);
+  work.gamma_flat.resize(s);
+  work.w_flat.resize(s);
+  work.alpha_flat.resize(static_cast<std::size_t>(num_atoms));
+  work.columns.resize(s);
+  if (work.weight.size() != static_cast<std::size_t>(num_atoms))
+    work.weight.assign(static_cast<std::size_t>(num_atoms), 1.0);
+  double* lower = work.factor.data();  // row i at i·s
+  double* y = work.forward.data();
+  double* gamma = work.gamma_flat.data();
+  double* w = work.w_flat.data();
+  double* alpha = work.alpha_flat.data();
+  double* weight = work.weight.data();
+  const double** columns = work.columns.data();
+  double residual = signal_squared_norm, delta_previous = 0.0;
+  // Correlations this small are round-off of an already exact fit.
+  const double tiny = 1e-12 * std::sqrt(std::max(signal_squared_norm, 1e-300));
+  int size = 0;
+  int best = detail::updateCorrelationsAndPick(alpha0, columns, gamma, 0, num_atoms, weight, tiny, alpha);
+  for (int n = 0; n < max_atoms; ++n) {
+    if ((error_stop && residual <= budget) || best < 0)
+      break;
+    const double* column = gram.col(best).data();
+    // New row of the factor: L w = G_{I,best}, then the diagonal.
+    double diagonal = column[best];
+    for (int i = 0; i < n; ++i) {
+      double sum = column[atoms[static_cast<std::size_t>(i)]];
+      const double* row = lower + static_cast<std::size_t>(i) * s;
+      for (int j = 0; j < i; ++j)
+        sum -= row[j] * w[j];
+      w[i] = sum / row[i];
+      diagonal -= w[i] * w[i];
+    }
+    if (n > 0 && diagonal <= 1e-10)  // the atom is (numerically) in the span of those chosen: stop
+      break;
+    double* row = lower + static_cast<std::size_t>(n) * s;
+    for (int j = 0; j < n; ++j)
+      row[j] = w[j];
+    row[n] = std::sqrt(diagonal);
+    atoms.push_back(best);
+    weight[best] = 0.0;
+    columns[n] = column;
+    size = n + 1;
+    // L y = α0_I gains one entry; Lᵀ γ = y is solved again.
+    double sum = alpha0[best];
+    for (int j = 0; j < n; ++j)
+      sum -= row[j] * y[j];
+    y[n] = sum / row[n];
+    for (int i = n; i >= 0; --i) {
+      double value = y[i];
+      for (int j = i + 1; j < size; ++j)
+        value -= lower[static_cast<std::size_t>(j) * s + static_cast<std::size_t>(i)] * gamma[j];
+      gamma[i] = value / lower[static_cast<std::size_t>(i) * s + static_cast<std::size_t>(i)];
+    }
+    if (size == max_atoms && !error_stop)
+      break;  // nobody reads α again
+    best = detail::updateCorrelationsAndPick(alpha0, columns, gamma, size, num_atoms, weight, tiny, alpha);
+    if (error_stop) {
+      double delta = 0.0;  // γᵀ β_I with β = α0 − α
+      for (int i = 0; i < size; ++i) {
+        const int k = atoms[static_cast<std::size_t>(i)];
+        delta += gamma[i] * (alpha0[k] - alpha[k]);
+      }
+      residual = residual - delta + delta_previous;
+      delta_previous = delta;
+    }
+  }
+  for (const int k : atoms)
+    weight[k] = 1.0;
+  coefficients.assign(gamma, gamma + size);
+}
+
 void checkParameters(const SparseCodingParameters& parameters)
 {
   if (parameters.max_atoms < 0)
@@ -214,9 +309,10 @@ void batchOMPSingle(const Eigen::MatrixXd& gram, const Eigen::VectorXd& correlat
                     std::vector<double>& coefficients)
 {
   checkParameters(parameters);
-  FullGram access{gram};
+  if (gram.rows() != correlations.size() || gram.cols() != correlations.size())
+    throw Error("sparse coding: the Gram matrix does not match the correlations");
   Workspace work;
-  ompKernel(access, correlations, signal_squared_norm, 0, parameters, nullptr, work, atoms, coefficients);
+  ompKernelFullGram(gram, correlations.data(), signal_squared_norm, 0, parameters, work, atoms, coefficients);
 }
 
 SparseCodes batchOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& gram, const Eigen::MatrixXd& signals,
@@ -240,14 +336,13 @@ SparseCodes batchOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& g
 #pragma omp parallel
     {
       Workspace work;
-      FullGram access{gram};
       std::vector<int> chosen;
       std::vector<double> values;
 #pragma omp for schedule(dynamic, 16)
       for (Eigen::Index i = 0; i < size; ++i) {
         const Eigen::Index p = start + i;
-        ompKernel(access, correlations.col(i), signals.col(p).squaredNorm(), signals.rows(), parameters, nullptr, work,
-                  chosen, values);
+        ompKernelFullGram(gram, correlations.col(i).data(), signals.col(p).squaredNorm(), signals.rows(), parameters,
+                          work, chosen, values);
         codes.set(p, chosen, values);
       }
     }
