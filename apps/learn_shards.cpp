@@ -37,17 +37,44 @@ std::uint64_t shardSeed(std::uint64_t seed, int shard)
   return seed + 0x632be59bd9b4e019ULL * static_cast<std::uint64_t>(shard);  // shard 0: the run's seed
 }
 
+/** Which shard streams each input: largest file first to the shard with the fewest bytes so far
+  * (ties: the lower shard), so shards get about equal work when inputs differ in size; each shard
+  * keeps its inputs in list order. Depends only on the list and the files' sizes, which a resumed
+  * run's fingerprint checks. */
+std::vector<int> assignInputs(const std::vector<std::string>& paths, int shards)
+{
+  std::vector<std::uintmax_t> sizes(paths.size(), 0);
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    std::error_code error;  // an unreadable input fails when its shard reads it
+    const std::uintmax_t size = std::filesystem::file_size(paths[i], error);
+    sizes[i] = error ? 0 : size;
+  }
+  std::vector<std::size_t> order(paths.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return sizes[a] > sizes[b]; });
+  std::vector<std::uintmax_t> load(static_cast<std::size_t>(shards), 0);
+  std::vector<int> shard_of(paths.size(), 0);
+  for (const std::size_t i : order) {
+    const auto lightest = std::min_element(load.begin(), load.end()) - load.begin();
+    shard_of[i] = static_cast<int>(lightest);
+    load[static_cast<std::size_t>(lightest)] += std::max<std::uintmax_t>(sizes[i], 1);
+  }
+  return shard_of;
+}
+
 /** One shard's stream: its inputs, one column at a time, through its shuffle buffer. */
 class ShardStream {
 public:
-  ShardStream(const ShardedLearningJob& job, int shard)
+  ShardStream(const ShardedLearningJob& job, int shard, const std::vector<int>& shard_of)
       : job_(job), shard_(shard),
         buffer_(job.buffer_capacity, subBatchSize(job.parameters.batch_size, job.shards, shard),
                 shardSeed(job.parameters.seed, shard)),
         cache_(job.patch_cache, job.paths.size()), grid_size_(job.grid_size)
   {
-    for (std::size_t i = static_cast<std::size_t>(shard); i < job.paths.size(); i += static_cast<std::size_t>(job.shards))
-      inputs_.push_back(i);
+    for (std::size_t i = 0; i < job.paths.size(); ++i)
+      if (shard_of[i] == shard)
+        inputs_.push_back(i);
   }
 
   void startPass(int pass)
@@ -374,9 +401,10 @@ ShardedLearningResult learnSharded(const ShardedLearningJob& job, const Ranks& r
     throw Error("sharded learning: " + std::to_string(ranks.size()) + " ranks for " + std::to_string(job.shards) +
                 " shards");
   std::vector<std::unique_ptr<ShardStream>> local;
+  const std::vector<int> shard_of = assignInputs(job.paths, job.shards);
   for (int s = 0; s < job.shards; ++s)
     if (ranks.size() == 1 || s == ranks.rank())
-      local.push_back(std::make_unique<ShardStream>(job, s));
+      local.push_back(std::make_unique<ShardStream>(job, s, shard_of));
 
   OnlineDictionaryLearner learner(job.parameters);
   ShardedLearningResult result;

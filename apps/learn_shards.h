@@ -17,8 +17,9 @@ namespace pcl {
 namespace patchdict {
 namespace cli {
 
-/** What a sharded run is asked to do. Shard s streams the inputs i with i mod S = s, through a
-  * shuffle buffer of `buffer_capacity` patches seeded for s (shard 0 as a one-shard run), into
+/** What a sharded run is asked to do. The inputs are dealt to the shards by size (largest file
+  * first to the shard with the fewest bytes so far), each shard streams its own in list order
+  * through a shuffle buffer of `buffer_capacity` patches seeded for s (shard 0 as a one-shard run), into
   * sub-batches of ⌊B/S⌋ patches (one more for the first B mod S shards): a round's combined batch
   * has B patches while every shard has some. */
 struct ShardedLearningJob {
