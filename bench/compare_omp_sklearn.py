@@ -105,15 +105,17 @@ def time_product(dictionary, signals, repeats):
 
 
 def run_driver(driver, workdir, n, atoms, count, sparsity):
-    """One timed run of our batchOMP in the driver; returns (seconds, K × P codes)."""
+    """Two timed calls of our batchOMP in one driver process, as sklearn's calls run in this warm
+    process: returns (the better call's seconds, the first call's seconds, K × P codes). The first
+    call pays for the process's cold memory (its signals never read before)."""
     codes_path = os.path.join(workdir, "codes_K{}_S{}.f64".format(atoms, sparsity))
     environment = dict(os.environ, OMP_NUM_THREADS="1")
     result = subprocess.run(
         [driver, os.path.join(workdir, "D_K{}.f64".format(atoms)), os.path.join(workdir, "X.f64"),
-         str(n), str(atoms), str(count), str(sparsity), "1", codes_path],
+         str(n), str(atoms), str(count), str(sparsity), "2", codes_path],
         env=environment, check=True, capture_output=True, text=True)
     timing = json.loads(result.stdout)
-    return timing["best_seconds"], read_raw(codes_path, atoms, count)
+    return timing["best_seconds"], timing["seconds"][0], read_raw(codes_path, atoms, count)
 
 
 def agreement(ours, theirs):
@@ -172,17 +174,18 @@ def main():
             for sparsity in args.sparsity:
                 # Alternate the two sides, so that load from other processes on a shared machine
                 # hits both alike; the best time of each side counts.
-                ours_seconds = theirs_seconds = float("inf")
+                ours_seconds = theirs_seconds = first_seconds = float("inf")
                 for _ in range(args.repeats):
-                    seconds, ours = run_driver(args.driver, workdir, n, atoms, count, sparsity)
+                    seconds, first, ours = run_driver(args.driver, workdir, n, atoms, count, sparsity)
                     ours_seconds = min(ours_seconds, seconds)
+                    first_seconds = min(first_seconds, first)
                     seconds, theirs, premature = time_sklearn(dictionary, gram, signals, sparsity)
                     theirs_seconds = min(theirs_seconds, seconds)
                 same, max_difference = agreement(ours, theirs)
                 if premature:
                     notes.append("K = {}, S = {}: sklearn stopped early on {} signals (linear dependence)".format(
                         atoms, sparsity, premature))
-                rows.append((atoms, sparsity, count / ours_seconds, count / theirs_seconds,
+                rows.append((atoms, sparsity, count / ours_seconds, count / first_seconds, count / theirs_seconds,
                              theirs_seconds / ours_seconds, same, max_difference))
                 print("K={} S={}: ours {:.3f} s, sklearn {:.3f} s, same support {:.2%}, max |dcoef| {:.2e}".format(
                     atoms, sparsity, ours_seconds, theirs_seconds, same, max_difference), file=sys.stderr)
@@ -191,15 +194,17 @@ def main():
         "# Batch-OMP: pcl_patchdict vs scikit-learn",
         "",
         "{} UTC; n = {}, {} random Gaussian signals, random Gaussian unit-norm dictionaries (seed {}); "
-        "one thread on each side; best of {} alternating wall times; Dᵀx included, DᵀD not.".format(
+        "one thread on each side; best of {} alternating wall times (ours: the better of two calls in one "
+        "process, as sklearn's calls share this warm process; the first call apart); Dᵀx included, DᵀD not.".format(
             datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M"), n, count, args.seed, args.repeats),
         "",
-        "| K | S | ours (patches/s) | sklearn (patches/s) | speed-up | same support | max abs coef diff |",
-        "|---:|---:|---:|---:|---:|---:|---:|",
+        "| K | S | ours (patches/s) | ours, a process's first call | sklearn (patches/s) | speed-up | same support "
+        "| max abs coef diff |",
+        "|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
-    for atoms, sparsity, ours_rate, theirs_rate, speedup, same, max_difference in rows:
-        lines.append("| {} | {} | {:,.0f} | {:,.0f} | {:.1f}x | {:.2%} | {:.1e} |".format(
-            atoms, sparsity, ours_rate, theirs_rate, speedup, same, max_difference))
+    for atoms, sparsity, ours_rate, first_rate, theirs_rate, speedup, same, max_difference in rows:
+        lines.append("| {} | {} | {:,.0f} | {:,.0f} | {:,.0f} | {:.1f}x | {:.2%} | {:.1e} |".format(
+            atoms, sparsity, ours_rate, first_rate, theirs_rate, speedup, same, max_difference))
     lines += [
         "",
         "- machine: {} cores, {}; load average before {}, after {}".format(
@@ -215,7 +220,7 @@ def main():
         os.makedirs(os.path.dirname(os.path.abspath(args.output)), exist_ok=True)
         with open(args.output, "w") as out:
             out.write(report)
-    worst = min(row[5] for row in rows)
+    worst = min(row[6] for row in rows)
     if worst < 0.99:
         print("WARNING: supports agree on only {:.2%} of the signals (< 99 %)".format(worst), file=sys.stderr)
         return 1
