@@ -135,6 +135,9 @@ void readLearnLine(const Arguments& args, LearnRun& run)
   run.passes = static_cast<int>(args.getInt("iterations", run.online ? 3 : options.iterations));
   options.iterations = run.passes;
   options.batch_size = static_cast<int>(args.getInt("batch"));
+  if (run.online && options.batch_size < run.shards)
+    throw UsageError("--batch " + std::to_string(options.batch_size) + " has fewer patches than shards (" +
+                     std::to_string(run.shards) + "): each shard's part of a batch needs one at least");
   options.seed = static_cast<std::uint64_t>(args.getInt("seed"));
   run.dictionary.setRemoveMean(args.has("remove-mean"));
   run.buffer_capacity = static_cast<std::size_t>(args.getInt("buffer"));
@@ -159,7 +162,7 @@ void readLearnLine(const Arguments& args, LearnRun& run)
       (sameFile(run.checkpoint_path, run.output) || (!run.png.empty() && sameFile(run.checkpoint_path, run.png))))
     throw UsageError("--checkpoint names the same file as -o or --png");
   if (run.inputs.ignored > 0)
-    note(run.quiet,
+    note(run.quiet || run.rank > 0,
          "  " + std::to_string(run.inputs.ignored) + " files in the input folders are neither .pds nor surfaces: ignored");
 }
 
@@ -207,7 +210,7 @@ void noteResuming(LearnRun& run, const LearningCheckpoint& saved)
                       "/" + std::to_string(run.passes);
   if (saved.shards.empty())
     where += ", input " + std::to_string(saved.next_input + 1) + "/" + std::to_string(run.num_inputs);
-  note(run.quiet, where);
+  note(run.quiet || run.rank > 0, where);
 }
 
 // 2b. Where a resumed one-shard run starts.
@@ -362,7 +365,8 @@ void learnOnlineSharded(const Arguments& args, LearnRun& run, const Ranks& ranks
   run.patches_coded = result.patches_coded;
   run.max_input_patches = result.max_input_patches;
   run.max_buffered = result.max_buffered;
-  run.batches = result.rounds;
+  run.batches = result.steps;
+  run.stop_after = result.complete ? run.stop_after : result.inputs_begun;  // where a sharded run stopped
   run.cache_reads = result.cache_reads;
   run.cache_bytes = result.cache_bytes;
   run.complete = result.complete;
@@ -450,13 +454,17 @@ JsonObject learnJson(const LearnRun& run, std::size_t patch_count, double observ
 
 }  // namespace
 
+namespace {
+int learnAndReport(const Arguments& args, LearnRun& run, const Ranks& ranks);
+}  // namespace
+
 int runLearn(const std::vector<std::string>& raw)
 {
 #ifdef __GLIBC__
   // Streaming allocates and frees the same large blocks every round (batches, statistics, input
   // patch sets of tens of MB): kept in the heap instead of mapped and unmapped each time, whose page
-  // faults cost a third of the reading (11 meshes' .pds, 2 shards: read 3.0 → 2.3 s, learn on 2
-  // ranks 5.9 → 4.3 s; docs/results.md). Peak memory is unchanged: the blocks are reused.
+  // faults cost a third of the reading (the 11 meshes' .pds on 2 shards, measured once: read 3.0 →
+  // 2.3 s; on 2 ranks the learn stage 5.9 → 4.2 s).
   mallopt(M_MMAP_THRESHOLD, 256 << 20);
   mallopt(M_TRIM_THRESHOLD, 512 << 20);
 #endif
@@ -477,8 +485,27 @@ int runLearn(const std::vector<std::string>& raw)
     read.emplace(readCommandLine(raw, commandSpec("learn")));
     readLearnLine(*read, run);
   });
-  const Arguments& args = *read;
+  try {
+    return learnAndReport(*read, run, ranks);
+  } catch (const StoppedByAnotherRank&) {
+    throw;
+  } catch (const std::exception& error) {
+    if (ranks.size() > 1 && !ranks.stoppedTogether()) {
+      // An error this rank alone met outside the agreed exchanges: the others wait for it in the
+      // next one, which only MPI_Abort ends. Said here, as main would, before the abort.
+      const bool usage = dynamic_cast<const UsageError*>(&error) != nullptr;
+      std::cerr << "pcl_patchdict learn: " << (usage ? "" : "error: ") << error.what() << std::endl;
+      ranks.abortAll();
+    }
+    throw;
+  }
+}
 
+namespace {
+
+// The learning, the dictionary written by rank 0, the report.
+int learnAndReport(const Arguments& args, LearnRun& run, const Ranks& ranks)
+{
   StageTimer timer(run.quiet || run.rank > 0);
   if (run.online && run.shards > 1) {
     timer.start("learn");
@@ -519,6 +546,8 @@ int runLearn(const std::vector<std::string>& raw)
   }
   return 0;
 }
+
+}  // namespace
 
 }  // namespace cli
 }  // namespace patchdict

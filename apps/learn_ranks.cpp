@@ -114,6 +114,14 @@ void Ranks::sum(double* data, std::size_t count) const
 #endif
 }
 
+void Ranks::checkLengths(const std::vector<std::int64_t>& lengths) const
+{
+  for (const std::int64_t length : lengths)
+    if (length > static_cast<std::int64_t>(INT_MAX))
+      fail("a message of " + std::to_string(length) + " bytes between ranks is beyond MPI's int counts (a smaller "
+           "--buffer keeps the checkpoints' per-rank state under 2 GB)");
+}
+
 void Ranks::broadcast(double* data, std::size_t count, int root) const
 {
   if (size_ == 1)
@@ -156,6 +164,10 @@ std::vector<std::string> Ranks::allGatherBytes(const std::string& mine) const
   if (size_ == 1)
     return {mine};
   const std::vector<std::int64_t> lengths = allGather(std::vector<std::int64_t>{static_cast<std::int64_t>(mine.size())});
+  std::int64_t sum = 0;
+  for (const std::int64_t length : lengths)
+    sum += length;
+  checkLengths({sum});
   std::vector<std::string> all(static_cast<std::size_t>(size_));
 #ifdef PCL_PATCHDICT_WITH_MPI
   std::vector<int> counts(static_cast<std::size_t>(size_)), offsets(static_cast<std::size_t>(size_));
@@ -179,6 +191,7 @@ std::vector<std::string> Ranks::gatherBytes(const std::string& mine) const
   if (size_ == 1)
     return {mine};
   const std::vector<std::int64_t> lengths = allGather(std::vector<std::int64_t>{static_cast<std::int64_t>(mine.size())});
+  checkLengths(lengths);
   std::vector<std::string> all;
 #ifdef PCL_PATCHDICT_WITH_MPI
   if (rank_ != 0) {
@@ -211,10 +224,19 @@ void Ranks::agree(const std::function<void()>& work) const
   for (int r = 0; r < size_; ++r) {
     if (failed[static_cast<std::size_t>(r)] == 0)
       continue;
+    stopped_together_ = true;
     if (r == rank_)
       std::rethrow_exception(failure);
     throw StoppedByAnotherRank();
   }
+}
+
+void Ranks::fail(const std::string& message) const
+{
+  stopped_together_ = true;
+  if (rank_ == 0)
+    throw Error(message);
+  throw StoppedByAnotherRank();
 }
 
 void treeSum(std::vector<std::vector<double>>& parts)

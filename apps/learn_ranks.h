@@ -51,6 +51,12 @@ public:
     * such rank rethrows its error (to be printed) and the others throw StoppedByAnotherRank; no
     * rank is left waiting. With one process, just `work()`. */
   void agree(const std::function<void()>& work) const;
+  /** An error every rank meets alike (called by all): thrown by rank 0 to be printed, the others
+    * stop quietly. */
+  [[noreturn]] void fail(const std::string& message) const;
+  /** True once agree() or fail() has stopped the run on every rank: an error reaching main
+    * otherwise is this rank's alone, and only MPI_Abort frees the ranks waiting for it. */
+  bool stoppedTogether() const { return stopped_together_; }
 
   /** Ends MPI (normal exit) or aborts every rank (an error only this rank met, outside agree()). */
   void finish();
@@ -58,9 +64,12 @@ public:
 
 private:
   Ranks();
+  /** fail() on every rank alike when a length of an exchange is beyond MPI's int counts. */
+  void checkLengths(const std::vector<std::int64_t>& lengths) const;
   int rank_ = 0;
   int size_ = 1;
   bool mpi_ = false;
+  mutable bool stopped_together_ = false;
 };
 
 /** The binary-tree sum Ranks::sum() performs, over parts held in one process: parts[0] ends as

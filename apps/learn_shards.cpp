@@ -235,16 +235,6 @@ private:
   std::size_t begun_this_run_ = 0;
 };
 
-/** An error every rank knows of alike: reported once, by rank 0. */
-[[noreturn]] void failTogether(const Ranks& ranks, const std::string& message)
-{
-  ranks.agree([&]() {
-    if (ranks.rank() == 0)
-      throw Error(message);
-  });
-  throw Error(message);  // one process
-}
-
 std::string bytesOf(const Batch& batch)
 {
   const Eigen::Index rows = batch.signals.rows(), cols = batch.signals.cols();
@@ -305,9 +295,28 @@ Batch combinedBatch(const std::vector<Batch>& local, const Ranks& ranks, Eigen::
   return all;
 }
 
-}  // namespace
+/** Skipped inputs as bytes between ranks: index, reason length, reason (any characters). */
+std::string skippedBytes(const std::vector<std::pair<std::uint64_t, std::string>>& skipped)
+{
+  std::string bytes;
+  for (const auto& entry : skipped)
+    bytes += std::to_string(entry.first) + ' ' + std::to_string(entry.second.size()) + ' ' + entry.second;
+  return bytes;
+}
 
-namespace {
+void readSkipped(const std::string& bytes, std::vector<std::pair<std::uint64_t, std::string>>& skipped)
+{
+  std::size_t at = 0;
+  while (at < bytes.size()) {
+    std::size_t end = 0;
+    const std::uint64_t index = std::stoull(bytes.substr(at), &end);
+    at += end + 1;
+    const std::size_t length = std::stoull(bytes.substr(at), &end);
+    at += end + 1;
+    skipped.emplace_back(index, bytes.substr(at, length));
+    at += length;
+  }
+}
 
 /** The shards' counters, gathered so that every rank holds every shard's (in shard order). */
 void gatherCounters(const std::vector<std::unique_ptr<ShardStream>>& local, const Ranks& ranks,
@@ -324,8 +333,7 @@ void gatherCounters(const std::vector<std::unique_ptr<ShardStream>>& local, cons
                                  static_cast<std::int64_t>(shard->cache_reads),
                                  static_cast<std::int64_t>(shard->cacheBytes())});
     sums.push_back(shard->observed_sum);
-    for (const auto& entry : shard->skipped)
-      skipped += std::to_string(entry.first) + '\t' + entry.second + '\n';
+    skipped += skippedBytes(shard->skipped);
   }
   const std::vector<std::int64_t> all = ranks.allGather(counts);
   const std::vector<double> all_sums = ranks.allGather(sums);
@@ -340,14 +348,8 @@ void gatherCounters(const std::vector<std::unique_ptr<ShardStream>>& local, cons
     result.cache_bytes += static_cast<std::uint64_t>(c[6]);
     result.observed_sum += all_sums[s];
   }
-  for (const std::string& text : ranks.allGatherBytes(skipped)) {
-    std::istringstream lines(text);
-    std::string line;
-    while (std::getline(lines, line)) {
-      const std::size_t tab = line.find('\t');
-      result.skipped.emplace_back(std::stoull(line.substr(0, tab)), line.substr(tab + 1));
-    }
-  }
+  for (const std::string& bytes : ranks.allGatherBytes(skipped))
+    readSkipped(bytes, result.skipped);
   std::sort(result.skipped.begin(), result.skipped.end());
 }
 
@@ -365,166 +367,207 @@ private:
   std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
 
-/** Rank 0 writes the run's state: the common learner and every shard's progress (gathered). */
-void writeCheckpoint(const ShardedLearningJob& job, const Ranks& ranks,
-                     const std::vector<std::unique_ptr<ShardStream>>& local, const OnlineDictionaryLearner& learner,
-                     int pass, Eigen::Index rows)
-{
-  LearningCheckpoint checkpoint = job.checkpoint;
-  checkpoint.pass = static_cast<std::uint32_t>(pass);
-  checkpoint.grid_size = static_cast<std::int32_t>(std::lround(std::sqrt(static_cast<double>(rows))));
-  checkpoint.learner = learner.state();
-  if (ranks.size() == 1) {
-    for (const auto& shard : local)
-      checkpoint.shards.push_back(shard->progress());
-  } else {
-    LearningCheckpoint mine;  // one shard's progress, in the checkpoint's own bytes
-    mine.num_inputs = job.paths.size();
-    mine.shards.push_back(local.front()->progress());
-    for (const std::string& bytes : ranks.gatherBytes(mine.toBytes()))
-      checkpoint.shards.push_back(LearningCheckpoint::fromBytes(bytes, "rank's progress").shards.front());
+/** One sharded run: this process's shards, the common learner, the rounds. */
+class ShardedRun {
+public:
+  ShardedRun(const ShardedLearningJob& job, const Ranks& ranks) : job_(job), ranks_(ranks), learner_(job.parameters)
+  {
+    if (job.shards < 1 || job.parameters.batch_size < job.shards)
+      ranks.fail("the batch (" + std::to_string(job.parameters.batch_size) + ") must hold at least one patch per shard (" +
+                 std::to_string(job.shards) + ")");
+    if (ranks.size() > 1 && ranks.size() != job.shards)
+      ranks.fail(std::to_string(ranks.size()) + " ranks for " + std::to_string(job.shards) + " shards");
+    // Every rank must deal the same inputs alike (names and sizes, as a resumed run checks).
+    const std::vector<std::int64_t> fingerprints =
+        ranks.allGather(std::vector<std::int64_t>{static_cast<std::int64_t>(job.checkpoint.inputs_fingerprint)});
+    for (const std::int64_t fingerprint : fingerprints)
+      if (fingerprint != fingerprints.front())
+        ranks.fail("the ranks see different inputs (names or sizes): they must share the same files");
+    ranks.agree([&]() {
+      const std::vector<int> shard_of = assignInputs(job.paths, job.shards);
+      for (int s = 0; s < job.shards; ++s)
+        if (ranks.size() == 1 || s == ranks.rank())
+          local_.push_back(std::make_unique<ShardStream>(job, s, shard_of));
+      if (job.resume != nullptr)
+        resume(*job.resume);
+    });
   }
-  ranks.agree([&]() {
-    if (ranks.rank() == 0)
-      checkpoint.save(job.checkpoint_path);
-  });
-}
+
+  /** The passes, to the end or to a stop; then the counters of every shard. */
+  ShardedLearningResult run()
+  {
+    for (int pass = first_pass_; pass < job_.passes && result_.complete; ++pass) {
+      if (job_.resume == nullptr || pass != first_pass_)
+        for (auto& shard : local_)
+          shard->startPass(pass);
+      while (round()) {
+        if (job_.stop_after > 0 && begun_ >= job_.stop_after) {
+          result_.complete = false;
+          checkpoint(pass);
+          break;
+        }
+        if (job_.checkpoint_every > 0 && begun_ / job_.checkpoint_every > checkpoints_due_) {
+          checkpoints_due_ = begun_ / job_.checkpoint_every;
+          checkpoint(pass);
+        }
+      }
+    }
+    gatherCounters(local_, ranks_, result_);
+    result_.steps = static_cast<std::size_t>(learner_.state().steps);
+    result_.inputs_begun = begun_;
+    if (!result_.complete)
+      return result_;
+    if (result_.patches == 0 || !learner_.initialised())
+      ranks_.fail(result_.skipped.size() == job_.paths.size() ? "every input was bad and skipped"
+                                                              : "the inputs hold no patches");
+    result_.dictionary = learner_.dictionary();
+    result_.grid_size = gridSize();
+    checkpoint(job_.passes);  // the finished state: resuming from it only writes the dictionary again
+    return result_;
+  }
+
+private:
+  void resume(const LearningCheckpoint& saved)
+  {
+    if (saved.shards.size() != static_cast<std::size_t>(job_.shards))
+      throw Error("cannot resume: the checkpoint holds " + std::to_string(saved.shards.size()) + " shards, the run " +
+                  std::to_string(job_.shards));
+    learner_.setState(saved.learner);
+    first_pass_ = static_cast<int>(saved.pass);
+    rows_ = saved.learner.dictionary.rows();
+    for (auto& shard : local_)
+      shard->restore(saved.shards[static_cast<std::size_t>(shard->index())], std::min(first_pass_, job_.passes - 1));
+  }
+
+  int gridSize() const { return static_cast<int>(std::lround(std::sqrt(static_cast<double>(rows_)))); }
+
+  /** One mini-batch round; false when the pass is over on every shard. */
+  bool round()
+  {
+    // 1. Every shard's next sub-batch; every rank learns every shard's size.
+    std::vector<Batch> batches(local_.size());
+    std::vector<std::int64_t> header;
+    ranks_.agree([&]() {
+      for (std::size_t i = 0; i < local_.size(); ++i) {
+        const bool got = local_[i]->next(batches[i]);
+        header.push_back(got ? batches[i].signals.rows() : 0);
+        header.push_back(got ? batches[i].signals.cols() : 0);
+        header.push_back(static_cast<std::int64_t>(local_[i]->begunThisRun()));
+      }
+    });
+    clock_.to(result_.seconds_read);
+    const std::vector<std::int64_t> sizes = ranks_.allGather(header);
+    std::vector<Eigen::Index> offsets(1, 0);
+    begun_ = 0;  // inputs begun in this run, over all shards
+    for (int s = 0; s < job_.shards; ++s) {
+      const std::int64_t* shard = &sizes[3 * static_cast<std::size_t>(s)];
+      if (shard[0] != 0 && rows_ != 0 && shard[0] != rows_)
+        ranks_.fail("shard " + std::to_string(s + 1) + "'s patches have " + std::to_string(shard[0]) +
+                    " bins, the others' " + std::to_string(rows_) + " (give --grid)");
+      if (shard[0] != 0)
+        rows_ = shard[0];
+      offsets.push_back(offsets.back() + shard[1]);
+      begun_ += static_cast<std::size_t>(shard[2]);
+    }
+    if (offsets.back() == 0)
+      return false;
+    // 2. The first round's combined signals initialise the atoms on every rank.
+    if (!learner_.initialised()) {
+      const Batch first = combinedBatch(batches, ranks_, rows_);
+      ranks_.agree([&]() { learner_.initialise(first.signals, first.mask); });
+    }
+    clock_.to(result_.seconds_exchange);
+    update(batches, offsets);
+    ++result_.rounds;
+    return true;
+  }
+
+  /** 3. Every shard codes its sub-batch, [A | B] summed over the shards in the fixed tree; 4. the
+    * same step on every rank, a restarted atom's column broadcast by the shard that holds it. */
+  void update(const std::vector<Batch>& batches, const std::vector<Eigen::Index>& offsets)
+  {
+    const Eigen::Index k = job_.parameters.num_atoms;
+    std::vector<OnlineDictionaryLearner::ShardStatistics> stats(local_.size());
+    std::vector<std::vector<double>> parts(local_.size());
+    ranks_.agree([&]() {
+      for (std::size_t i = 0; i < local_.size(); ++i) {
+        stats[i] = learner_.codeShard(batches[i].signals, batches[i].mask);
+        parts[i].resize(static_cast<std::size_t>(k * k + rows_ * k));
+        Eigen::Map<Eigen::MatrixXd>(parts[i].data(), k, k) = stats[i].a;
+        Eigen::Map<Eigen::MatrixXd>(parts[i].data() + k * k, rows_, k) = stats[i].b;
+      }
+    });
+    clock_.to(result_.seconds_code);
+    treeSum(parts);
+    ranks_.sum(parts[0].data(), parts[0].size());
+    clock_.to(result_.seconds_exchange);
+    const Eigen::MatrixXd a = Eigen::Map<const Eigen::MatrixXd>(parts[0].data(), k, k);
+    const Eigen::MatrixXd b = Eigen::Map<const Eigen::MatrixXd>(parts[0].data() + k * k, rows_, k);
+    const auto restart = [&](Eigen::Index p) -> Eigen::VectorXd {
+      const int owner = static_cast<int>(std::upper_bound(offsets.begin(), offsets.end(), p) - offsets.begin()) - 1;
+      Eigen::VectorXd column = Eigen::VectorXd::Zero(rows_);
+      for (std::size_t i = 0; i < local_.size(); ++i)
+        if (local_[i]->index() == owner)
+          column = stats[i].filled.col(p - offsets[static_cast<std::size_t>(owner)]);
+      ranks_.broadcast(column.data(), static_cast<std::size_t>(rows_), owner);
+      return column;
+    };
+    learner_.applyRound(a, b, offsets.back(), restart);
+    clock_.to(result_.seconds_update);
+  }
+
+  /** Rank 0 writes the run's state: the common learner and every shard's progress (gathered). */
+  void checkpoint(int pass)
+  {
+    if (job_.checkpoint_path.empty())
+      return;
+    LearningCheckpoint checkpoint = job_.checkpoint;
+    checkpoint.pass = static_cast<std::uint32_t>(pass);
+    checkpoint.grid_size = gridSize();
+    checkpoint.learner = learner_.state();
+    std::string mine;  // one shard's progress, in the checkpoint's own bytes (between ranks)
+    ranks_.agree([&]() {
+      if (ranks_.size() == 1) {
+        for (const auto& shard : local_)
+          checkpoint.shards.push_back(shard->progress());
+        return;
+      }
+      LearningCheckpoint part;
+      part.num_inputs = job_.paths.size();
+      part.shards.push_back(local_.front()->progress());
+      mine = part.toBytes();
+    });
+    if (ranks_.size() > 1) {
+      const std::vector<std::string> parts = ranks_.gatherBytes(mine);
+      ranks_.agree([&]() {
+        for (const std::string& bytes : parts)
+          checkpoint.shards.push_back(LearningCheckpoint::fromBytes(bytes, "a rank's progress").shards.front());
+      });
+    }
+    ranks_.agree([&]() {
+      if (ranks_.rank() == 0)
+        checkpoint.save(job_.checkpoint_path);
+    });
+    ++result_.checkpoints_written;
+  }
+
+  const ShardedLearningJob& job_;
+  const Ranks& ranks_;
+  OnlineDictionaryLearner learner_;
+  std::vector<std::unique_ptr<ShardStream>> local_;
+  ShardedLearningResult result_;
+  Eigen::Index rows_ = 0;
+  int first_pass_ = 0;
+  std::size_t begun_ = 0, checkpoints_due_ = 0;
+  PartClock clock_;
+};
 
 }  // namespace
 
 ShardedLearningResult learnSharded(const ShardedLearningJob& job, const Ranks& ranks)
 {
-  if (job.shards < 1 || job.parameters.batch_size < job.shards)
-    throw Error("sharded learning: the batch (" + std::to_string(job.parameters.batch_size) +
-                ") must hold at least one patch per shard (" + std::to_string(job.shards) + ")");
-  if (ranks.size() > 1 && ranks.size() != job.shards)
-    throw Error("sharded learning: " + std::to_string(ranks.size()) + " ranks for " + std::to_string(job.shards) +
-                " shards");
-  std::vector<std::unique_ptr<ShardStream>> local;
-  const std::vector<int> shard_of = assignInputs(job.paths, job.shards);
-  for (int s = 0; s < job.shards; ++s)
-    if (ranks.size() == 1 || s == ranks.rank())
-      local.push_back(std::make_unique<ShardStream>(job, s, shard_of));
-
-  OnlineDictionaryLearner learner(job.parameters);
-  ShardedLearningResult result;
-  Eigen::Index rows = 0;
-  int first_pass = 0;
-  if (job.resume != nullptr) {
-    if (job.resume->shards.size() != static_cast<std::size_t>(job.shards))
-      throw Error("cannot resume: the checkpoint holds " + std::to_string(job.resume->shards.size()) + " shards, the run " +
-                  std::to_string(job.shards));
-    learner.setState(job.resume->learner);
-    first_pass = static_cast<int>(job.resume->pass);
-    rows = job.resume->learner.dictionary.rows();
-    ranks.agree([&]() {
-      for (auto& shard : local)
-        shard->restore(job.resume->shards[static_cast<std::size_t>(shard->index())], std::min(first_pass, job.passes - 1));
-    });
-  }
-  const auto checkpoint = [&](int pass) {
-    if (!job.checkpoint_path.empty()) {
-      writeCheckpoint(job, ranks, local, learner, pass, rows);
-      ++result.checkpoints_written;
-    }
-  };
-  std::size_t checkpoints_due = 0;
-  PartClock clock;
-  for (int pass = first_pass; pass < job.passes && result.complete; ++pass) {
-    if (job.resume == nullptr || pass != first_pass)
-      for (auto& shard : local)
-        shard->startPass(pass);
-    for (;;) {
-      // 1. Every shard's next sub-batch; every rank learns every shard's size.
-      std::vector<Batch> batches(local.size());
-      std::vector<std::int64_t> header;
-      ranks.agree([&]() {
-        for (std::size_t i = 0; i < local.size(); ++i) {
-          const bool got = local[i]->next(batches[i]);
-          header.push_back(got ? batches[i].signals.rows() : 0);
-          header.push_back(got ? batches[i].signals.cols() : 0);
-          header.push_back(static_cast<std::int64_t>(local[i]->begunThisRun()));
-        }
-      });
-      clock.to(result.seconds_read);
-      const std::vector<std::int64_t> sizes = ranks.allGather(header);
-      std::vector<Eigen::Index> offsets(1, 0);
-      std::size_t begun = 0;  // inputs begun in this run, over all shards
-      for (int s = 0; s < job.shards; ++s) {
-        begun += static_cast<std::size_t>(sizes[3 * static_cast<std::size_t>(s) + 2]);
-        const Eigen::Index shard_rows = sizes[3 * static_cast<std::size_t>(s)];
-        if (shard_rows != 0 && rows != 0 && shard_rows != rows)
-          failTogether(ranks, "shard " + std::to_string(s + 1) + "'s patches have " + std::to_string(shard_rows) +
-                                  " bins, the others' " + std::to_string(rows) + " (give --grid)");
-        if (shard_rows != 0)
-          rows = shard_rows;
-        offsets.push_back(offsets.back() + sizes[3 * static_cast<std::size_t>(s) + 1]);
-      }
-      const Eigen::Index total = offsets.back();
-      if (total == 0)
-        break;  // the pass is over on every shard
-
-      // 2. The first round's combined signals initialise the atoms on every rank.
-      if (!learner.initialised()) {
-        const Batch first = combinedBatch(batches, ranks, rows);
-        ranks.agree([&]() { learner.initialise(first.signals, first.mask); });
-      }
-      clock.to(result.seconds_exchange);
-      // 3. Every shard codes its sub-batch; the statistics [A | B] are summed over the shards.
-      const Eigen::Index k = job.parameters.num_atoms;
-      std::vector<OnlineDictionaryLearner::ShardStatistics> stats(local.size());
-      std::vector<std::vector<double>> parts(local.size());
-      ranks.agree([&]() {
-        for (std::size_t i = 0; i < local.size(); ++i) {
-          stats[i] = learner.codeShard(batches[i].signals, batches[i].mask);
-          parts[i].resize(static_cast<std::size_t>(k * k + rows * k));
-          Eigen::Map<Eigen::MatrixXd>(parts[i].data(), k, k) = stats[i].a;
-          Eigen::Map<Eigen::MatrixXd>(parts[i].data() + k * k, rows, k) = stats[i].b;
-        }
-      });
-      clock.to(result.seconds_code);
-      treeSum(parts);
-      ranks.sum(parts[0].data(), parts[0].size());
-      clock.to(result.seconds_exchange);
-      const Eigen::MatrixXd a = Eigen::Map<const Eigen::MatrixXd>(parts[0].data(), k, k);
-      const Eigen::MatrixXd b = Eigen::Map<const Eigen::MatrixXd>(parts[0].data() + k * k, rows, k);
-      // 4. The same update on every rank; a restarted atom takes its column from the shard that has it.
-      const auto restart = [&](Eigen::Index p) -> Eigen::VectorXd {
-        const int owner = static_cast<int>(std::upper_bound(offsets.begin(), offsets.end(), p) - offsets.begin()) - 1;
-        Eigen::VectorXd column = Eigen::VectorXd::Zero(rows);
-        for (std::size_t i = 0; i < local.size(); ++i)
-          if (local[i]->index() == owner)
-            column = stats[i].filled.col(p - offsets[static_cast<std::size_t>(owner)]);
-        ranks.broadcast(column.data(), static_cast<std::size_t>(rows), owner);
-        return column;
-      };
-      learner.applyRound(a, b, total, restart);
-      clock.to(result.seconds_update);
-      ++result.rounds;
-      // 5. Checkpoints and stops fall on a round's end, where every shard's state is whole.
-      if (job.stop_after > 0 && begun >= job.stop_after) {
-        result.complete = false;
-        checkpoint(pass);
-        break;
-      }
-      if (job.checkpoint_every > 0 && begun / job.checkpoint_every > checkpoints_due) {
-        checkpoints_due = begun / job.checkpoint_every;
-        checkpoint(pass);
-      }
-    }
-  }
-  if (!result.complete) {
-    gatherCounters(local, ranks, result);
-    return result;
-  }
-  gatherCounters(local, ranks, result);
-  if (result.patches == 0 || !learner.initialised())
-    failTogether(ranks, result.skipped.size() == job.paths.size() ? "every input was bad and skipped"
-                                                                  : "the inputs hold no patches");
-  result.dictionary = learner.dictionary();
-  result.grid_size = static_cast<int>(std::lround(std::sqrt(static_cast<double>(rows))));
-  checkpoint(job.passes);  // the finished state: resuming from it only writes the dictionary again
-  return result;
+  ShardedRun run(job, ranks);
+  return run.run();
 }
 
 }  // namespace cli

@@ -57,9 +57,12 @@ struct ShardedLearningResult {
   std::uint64_t cache_bytes = 0;
   bool complete = true;                ///< false: stopped (stop_after), resumable
   std::size_t checkpoints_written = 0;
-  /** Rank 0's wall time in the parts of the rounds (the cost model of docs/performance.md): its
-    * shards' reading and buffering, their coding (codeShard), the exchanges between ranks
-    * (headers, the sum of A and B, which also waits for the slowest rank), and the atom update. */
+  std::size_t steps = 0;               ///< the learner's rounds, earlier runs of a resumed job included
+  std::size_t inputs_begun = 0;        ///< in this run, over all shards
+  /** Rank 0's wall time in the parts of the rounds (the cost model in docs/results.md, "Learning
+    * on several ranks"): its shards' reading and buffering, their coding (codeShard), the
+    * exchanges of sizes and sums, and the atom update. Waiting for a slower rank falls in the
+    * reading and the coding, whose ends every rank agrees on (Ranks::agree). */
   double seconds_read = 0.0, seconds_code = 0.0, seconds_exchange = 0.0, seconds_update = 0.0;
 };
 

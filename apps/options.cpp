@@ -286,7 +286,7 @@ void addSurfaceCommands(std::vector<CommandSpec>& table)
         computed(integer("iterations", "T", 0, 1, 100000, "K-SVD iterations, or passes over the inputs"),
                  "20 (ksvd), 3 (online)"),
         integer("batch", "B", 512, 1, 1 << 20, "mini-batch size (online)"),
-        integer("buffer", "N", 20000, 1, 1LL << 32, "patches of the shuffle buffer (online)"),
+        integer("buffer", "N", 20000, 1, 1LL << 32, "patches of the shuffle buffer (online; each shard has its own)"),
         grid(16).noted("or the first input's"), quadLength(0.03, "quad edge length of surface inputs, unit-cube units"),
         overlap(1, "4K extra seeds per quad (surface inputs)"),
         flag("skip-bad", "skip unreadable inputs (each named on stderr) instead of failing"),

@@ -12,7 +12,7 @@ void correlationsAvx2(const double* atoms, std::ptrdiff_t atom_stride, std::ptrd
                       const double* signals, std::ptrdiff_t signal_stride, std::ptrdiff_t num_signals, double* out,
                       std::ptrdiff_t out_stride);
 int updateAndPickAvx2(const double* alpha0, const double* const* columns, const double* gamma, int size, int num_atoms,
-              const double* weight, double threshold, double* alpha);
+                      const double* weight, double threshold, double* alpha);
 #endif
 
 bool correlationsUseAvx2()

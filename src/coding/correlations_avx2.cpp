@@ -88,7 +88,7 @@ void correlationsAvx2(const double* atoms, std::ptrdiff_t atom_stride, std::ptrd
   * the largest weight(k)·|alpha(k)| above `threshold`, or −1. Lanes keep their own first maximum;
   * equal maxima across lanes go to the smaller k, so the result is the scalar loop's. */
 int updateAndPickAvx2(const double* alpha0, const double* const* columns, const double* gamma, int size, int num_atoms,
-              const double* weight, double threshold, double* alpha)
+                      const double* weight, double threshold, double* alpha)
 {
   const __m256d sign = _mm256_set1_pd(-0.0);
   __m256d best_value = _mm256_set1_pd(threshold);

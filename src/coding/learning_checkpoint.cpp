@@ -104,6 +104,8 @@ std::vector<std::pair<std::uint64_t, std::string>> getSkipped(detail::ByteReader
   std::vector<std::pair<std::uint64_t, std::string>> skipped;
   for (std::uint64_t i = 0; i < count; ++i) {
     const std::uint64_t index = in.getU64();
+    if (index >= num_inputs)
+      throw Error(in.what() + "a skipped input's index is beyond the inputs");
     skipped.emplace_back(index, getString(in));
   }
   return skipped;

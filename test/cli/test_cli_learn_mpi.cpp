@@ -100,7 +100,7 @@ TEST(CliLearnShards, ShardsInOneProcessSplitTheInputsAndCodeEveryPatch)
   const double e1 = error(*d1), e2 = error(*d2);
   EXPECT_LT(std::abs(e1 - e2), 0.1 * e1) << e1 << " " << e2;
   // Shards need online learning and at least one patch each per batch.
-  EXPECT_EQ(runTool("learn" + inputs + " -o " + q(dir.file("x.pdd")) + kJob + " --shards 41").exit_code, 1);
+  EXPECT_EQ(runTool("learn" + inputs + " -o " + q(dir.file("x.pdd")) + kJob + " --shards 41").exit_code, 2);
   EXPECT_EQ(runTool("learn" + inputs + " -o " + q(dir.file("x.pdd")) + kJob + " --shards 2 --method ksvd").exit_code, 2);
   EXPECT_FALSE(std::filesystem::exists(dir.file("x.pdd")));
 }

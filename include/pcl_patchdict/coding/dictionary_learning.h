@@ -55,10 +55,10 @@ struct OnlineLearningParameters {
   * Everything the learner knows is its State (dictionary D, the statistics A = Σ α αᵀ and
   * B = Σ x αᵀ, counters, generator): state() / setState() make a run resumable bit for bit
   * (`learn --checkpoint`). A and B are sums over the signals (weighted by the mini-batch
-  * forgetting factor), which is what makes the method distributable: shards coded on several
-  * machines against a common D give statistics that add up (the common A₀, B₀ decayed once), and
-  * one block-coordinate update of D on the summed A, B (updateAtoms()) is the update of the union
-  * (README, "Global dictionaries"). */
+  * forgetting factor), which is what makes the method distributable: shards coded against a
+  * common D give statistics that add up, and one step on their sum (codeShard() on every shard,
+  * applyRound() on the sums) is the step on the union — how `learn` runs on MPI ranks
+  * (docs/design.md, "Across machines"). */
 class OnlineDictionaryLearner {
 public:
   /** The whole learner, as `learn --checkpoint` stores it. `rng` is the generator's state in the

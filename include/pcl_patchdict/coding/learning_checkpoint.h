@@ -13,18 +13,6 @@
 namespace pcl {
 namespace patchdict {
 
-/** \brief The state of `learn --method online` between two inputs. `settings` are the named
-  * parameters that shape the result (atoms, seed, grid, …, as the caller writes them); with
-  * `inputs_fingerprint` they let a resumed run refuse to continue a different job.
-  *
-  * For several machines (Mairal et al. 2009's statistics are sums): every machine starts from the
-  * same checkpoint (D, A₀, B₀) and codes its shard of a mini-batch; each reports ΔA = A − β A₀ and
-  * ΔB = B − β B₀ (its own forgetting factor β); A = β' A₀ + Σ ΔA, B = β' B₀ + Σ ΔB (β' of the
-  * combined batch) and OnlineDictionaryLearner::updateAtoms() give the step one machine would have
-  * taken on the combined batch (README, "Global dictionaries"; test ShardStatisticsAddUp).
-  *
-  * File layout (.pdk, little-endian): magic "PCLPDK\0\x1a", version, then the fields below in
-  * order (strings and matrices with their sizes first), then FNV-1a 64 of everything before it. */
 /** \brief Where one shard of a sharded run (`learn --shards S`, or S MPI ranks) stood at a round's
   * end: its position in its own inputs, its shuffle buffer, the sub-batches it had made but not
   * yet handed over (a flush makes several at once), and its counters. */
@@ -42,6 +30,19 @@ struct ShardProgress {
   std::vector<ObservationMask> ready_masks;  ///< theirs (empty: all observed)
 };
 
+/** \brief The state of `learn --method online` between two inputs (one shard), or at a round's
+  * end (several shards). `settings` are the named parameters that shape the result (atoms, seed,
+  * grid, shards, …, as the caller writes them); with `inputs_fingerprint` they let a resumed run
+  * refuse to continue a different job.
+  *
+  * Several shards or MPI ranks share one learner (Mairal et al. 2009's statistics are sums): each
+  * codes its part of a round against the common dictionary and the summed statistics give every
+  * holder the step one learner takes on the combined batch (OnlineDictionaryLearner::codeShard /
+  * applyRound; docs/design.md, "Across machines"). Their checkpoint holds the common learner and
+  * every shard's progress (`shards`).
+  *
+  * File layout (.pdk, little-endian): magic "PCLPDK\0\x1a", version, then the fields below in
+  * order (strings and matrices with their sizes first), then FNV-1a 64 of everything before it. */
 struct LearningCheckpoint {
   std::vector<std::pair<std::string, std::string>> settings;
   std::uint64_t inputs_fingerprint = 0;
