@@ -1,5 +1,7 @@
 #include "test_support.h"
 
+#include <pcl_patchdict/patches/patch_set.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -117,6 +119,33 @@ bool endsWithOneErrorLine(const std::string& err)
     start = end + 1;
   }
   return error_lines == 1 && last.find("error:") != std::string::npos;
+}
+
+void writePatchSet(const std::string& path, std::uint64_t seed, int count)
+{
+  using pcl::patchdict::ObservationMask;
+  using pcl::patchdict::PatchSet;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> gaussian;
+  PatchSet set;
+  set.grid_size = 8;
+  set.radius = 0.1;
+  set.heights.resize(64, count);
+  set.observed = ObservationMask::Constant(64, count, true);
+  for (int p = 0; p < count; ++p) {
+    set.seeds.emplace_back(gaussian(rng), gaussian(rng), 0.0);
+    set.rotations.push_back(Eigen::Matrix3d::Identity());
+    set.source.push_back(0);
+    const double phase = gaussian(rng), slope = 0.2 * gaussian(rng);
+    for (int b = 0; b < 64; ++b)
+      set.heights(b, p) = std::sin(phase + 0.7 * (b % 8)) + slope * (b / 8);
+    if (p % 5 == 0)
+      for (int b = 0; b < 64; b += 7) {
+        set.observed(b, p) = false;
+        set.heights(b, p) = 0.0;
+      }
+  }
+  set.save(path);
 }
 
 std::string q(const std::string& path) { return "'" + path + "'"; }

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,9 @@ std::string jsonString(const std::string& json, const std::string& key);
 bool isOneLine(const std::string& text);
 /** Progress lines may precede it, but an error is exactly one line, the last, saying "error:". */
 bool endsWithOneErrorLine(const std::string& err);
+/** A .pds of `count` 8×8 sinusoidal height maps (phase and tilt drawn from `seed`), every fifth
+  * with some bins unobserved: small patch sets for `learn`. */
+void writePatchSet(const std::string& path, std::uint64_t seed, int count = 300);
 /** The path in single quotes, for runTool's shell command line. */
 std::string q(const std::string& path);
 

@@ -20,34 +20,9 @@ using test_support::jsonString;
 using test_support::q;
 using test_support::readFile;
 using test_support::runTool;
+using test_support::writePatchSet;
 
 namespace {
-
-// A family of 8×8 sinusoidal height maps; every set differs (its own seed), some bins unobserved.
-void writePatchSet(const std::string& path, std::uint64_t seed, int count = 300)
-{
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> gaussian;
-  PatchSet set;
-  set.grid_size = 8;
-  set.radius = 0.1;
-  set.heights.resize(64, count);
-  set.observed = ObservationMask::Constant(64, count, true);
-  for (int p = 0; p < count; ++p) {
-    set.seeds.emplace_back(gaussian(rng), gaussian(rng), 0.0);
-    set.rotations.push_back(Eigen::Matrix3d::Identity());
-    set.source.push_back(0);
-    const double phase = gaussian(rng), slope = 0.2 * gaussian(rng);
-    for (int b = 0; b < 64; ++b)
-      set.heights(b, p) = std::sin(phase + 0.7 * (b % 8)) + slope * (b / 8);
-    if (p % 5 == 0)
-      for (int b = 0; b < 64; b += 7) {
-        set.observed(b, p) = false;
-        set.heights(b, p) = 0.0;
-      }
-  }
-  set.save(path);
-}
 
 const char* kOnline = " --method online --atoms 12 --sparsity 4 --batch 32 --json";
 
