@@ -385,7 +385,7 @@ void codeSharedMasks(const Eigen::MatrixXd& dictionary_t, const Eigen::MatrixXd&
 #pragma omp parallel
   {
     Workspace work;
-    Eigen::MatrixXd masked_t, gram;
+    Eigen::MatrixXd masked_t, masked_atoms, gram, block, block_correlations;
     Eigen::VectorXd observed, correlations, norms, inverse(num_atoms);
     std::vector<char> usable;
     std::vector<int> chosen;
@@ -410,6 +410,31 @@ void codeSharedMasks(const Eigen::MatrixXd& dictionary_t, const Eigen::MatrixXd&
       for (Eigen::Index k = 0; k < num_atoms; ++k) {
         usable[static_cast<std::size_t>(k)] = norms[k] > 1e-8;
         inverse[k] = norms[k] > 1e-8 ? 1.0 / norms[k] : 0.0;
+      }
+      if (std::all_of(usable.begin(), usable.end(), [](char u) { return u != 0; })) {
+        // Every atom keeps energy on the observed rows (the usual case: a few bins hidden, or
+        // none): Batch-OMP's fast path on the normalised masked atoms — correlations of the
+        // group's signals by the blocked kernel, the fused steps over the masked Gram matrix.
+        masked_atoms = inverse.asDiagonal() * masked_t;  // K × m, unit rows
+        gram.noalias() = masked_atoms * masked_atoms.transpose();
+        const Eigen::MatrixXd atoms_by_row = masked_atoms.transpose();  // m × K
+        for (std::size_t start = 0; start < list.size(); start += 256) {
+          const std::size_t size = std::min<std::size_t>(256, list.size() - start);
+          block.resize(observed_count, static_cast<Eigen::Index>(size));
+          for (std::size_t j = 0; j < size; ++j)
+            for (Eigen::Index i = 0; i < observed_count; ++i)
+              block(i, static_cast<Eigen::Index>(j)) = signals(rows[static_cast<std::size_t>(i)], list[start + j]);
+          detail::computeCorrelations(atoms_by_row, block, block_correlations);
+          for (std::size_t j = 0; j < size; ++j) {
+            const auto column = static_cast<Eigen::Index>(j);
+            ompKernelFullGram(gram, block_correlations.col(column).data(), block.col(column).squaredNorm(),
+                              observed_count, parameters, work, chosen, values);
+            for (std::size_t i = 0; i < chosen.size(); ++i)  // back to the un-normalised atoms
+              values[i] *= inverse[chosen[i]];
+            codes.set(list[start + j], chosen, values);
+          }
+        }
+        continue;
       }
       gram.noalias() = masked_t * masked_t.transpose();
       gram = inverse.asDiagonal() * gram * inverse.asDiagonal();
