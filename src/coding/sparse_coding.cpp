@@ -456,13 +456,13 @@ void codeSharedMasks(const Eigen::MatrixXd& dictionary_t, const Eigen::MatrixXd&
 }
 
 /** Masks of their own: correlations Dᵀ(m ⊙ x) and masked norms² (D ⊙ D)ᵀm for a block of signals
-  * by two GEMMs, then Gram columns on demand. */
+  * by the blocked correlation kernel, then Gram columns on demand. */
 void codeSingleMasks(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& dictionary_t,
                      const Eigen::MatrixXd& signals, const Mask& mask, const std::vector<Eigen::Index>& singles,
                      const SparseCodingParameters& parameters, int max_atoms, CodeLists& codes)
 {
   const Eigen::Index num_atoms = dictionary.cols(), n = dictionary.rows();
-  const Eigen::MatrixXd squared_t = dictionary_t.cwiseAbs2();
+  const Eigen::MatrixXd squared = dictionary.cwiseAbs2();
   const Eigen::MatrixXd full_gram = singles.empty() ? Eigen::MatrixXd() : Eigen::MatrixXd(dictionary_t * dictionary);
   constexpr std::size_t block = 1024;
   Eigen::MatrixXd block_signals, block_masks, correlations, squared_norms;
@@ -475,8 +475,8 @@ void codeSingleMasks(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& d
       block_masks.col(i) = mask.col(p).cast<double>();
       block_signals.col(i) = signals.col(p).cwiseProduct(block_masks.col(i));
     }
-    correlations.noalias() = dictionary_t * block_signals;
-    squared_norms.noalias() = squared_t * block_masks;
+    detail::computeCorrelations(dictionary, block_signals, correlations);
+    detail::computeCorrelations(squared, block_masks, squared_norms);
 #pragma omp parallel
     {
       Workspace work;
