@@ -65,114 +65,24 @@ struct LazyMaskedGram {
 // Buffers of one thread, reused across signals: allocation would otherwise cost as much as the
 // arithmetic for small sparsities.
 struct Workspace {
-  Eigen::MatrixXd lower;          // Cholesky factor of G_II (S × S)
-  Eigen::MatrixXd gram_selected;  // G_{:,I} (K × S)
-  Eigen::VectorXd alpha, gamma, beta, rhs, w;
-  std::vector<char> selected;
-  std::vector<double> factor, forward, gamma_flat, w_flat, alpha_flat, weight;  // ompKernelFullGram's
+  std::vector<double> factor, forward, gamma_flat, w_flat, alpha_flat, weight;
   std::vector<const double*> columns;
-  void reserve(Eigen::Index num_atoms, int max_atoms)
-  {
-    if (lower.rows() < max_atoms)
-      lower.resize(max_atoms, max_atoms);
-    if (gram_selected.rows() != num_atoms || gram_selected.cols() < max_atoms)
-      gram_selected.resize(num_atoms, max_atoms);
-    if (selected.size() != static_cast<std::size_t>(num_atoms))
-      selected.assign(static_cast<std::size_t>(num_atoms), 0);
-    rhs.resize(max_atoms);
-  }
 };
 
-// The Batch-OMP iteration (Rubinstein et al. 2008, Algorithm 5), with error and sparsity stopping.
-// `usable` excludes atoms (masked atoms with no energy on the observed rows).
+// The Batch-OMP iteration (Rubinstein, Zibulevsky & Elad 2008, Algorithm 5), with error and
+// sparsity stopping, over Gram columns from `gram.column(k)` (a precomputed matrix, or masked
+// columns made on demand); `usable` (or null: all) excludes atoms. The Cholesky factor sits in a
+// small row-major array, its forward solve kept from one iteration to the next (adding an atom
+// adds a row), and α = α0 − G_I γ is fused with the next argmax over the chosen atoms' contiguous
+// Gram columns (detail::updateCorrelationsAndPick: AVX2 where available) — no Eigen dispatch or
+// allocation per iteration, which cost more than the arithmetic at S ≤ 20; the last iteration
+// skips the update when nothing reads it.
 template <typename Gram>
-void ompKernel(Gram& gram, const Eigen::Ref<const Eigen::VectorXd>& alpha0, double signal_squared_norm,
+void ompKernel(Gram& gram, const double* alpha0, Eigen::Index num_atoms_in, double signal_squared_norm,
                Eigen::Index entries, const SparseCodingParameters& parameters, const std::vector<char>* usable,
                Workspace& work, std::vector<int>& atoms, std::vector<double>& coefficients)
 {
-  const int num_atoms = static_cast<int>(alpha0.size());
-  const int max_atoms = std::min(parameters.max_atoms, num_atoms);
-  atoms.clear();
-  coefficients.clear();
-  if (max_atoms <= 0)
-    return;
-  work.reserve(num_atoms, max_atoms);
-  const double budget = std::max(parameters.max_squared_error,
-                                 parameters.max_squared_error_per_entry * static_cast<double>(entries));
-  const bool error_stop = budget > 0.0;
-  auto& lower = work.lower;
-  auto& selected = work.selected;
-  work.alpha = alpha0;
-  double residual = signal_squared_norm, delta_previous = 0.0;
-  // Correlations this small are round-off of an already exact fit.
-  const double tiny = 1e-12 * std::sqrt(std::max(signal_squared_norm, 1e-300));
-
-  for (int n = 0; n < max_atoms; ++n) {
-    if (error_stop && residual <= budget)
-      break;
-    int best = -1;
-    double best_value = tiny;
-    for (int k = 0; k < num_atoms; ++k) {
-      if (selected[k] || (usable && !(*usable)[k]))
-        continue;
-      const double value = std::abs(work.alpha[k]);
-      if (value > best_value) {
-        best_value = value;
-        best = k;
-      }
-    }
-    if (best < 0)
-      break;
-    const double* column = gram.column(best);
-    if (n == 0) {
-      lower(0, 0) = std::sqrt(column[best]);
-    } else {
-      work.w.resize(n);
-      for (int i = 0; i < n; ++i)
-        work.w[i] = column[atoms[i]];
-      lower.topLeftCorner(n, n).triangularView<Eigen::Lower>().solveInPlace(work.w);
-      const double diagonal = column[best] - work.w.squaredNorm();
-      if (diagonal <= 1e-10)  // the atom is (numerically) in the span of those chosen: stop
-        break;
-      lower.row(n).head(n) = work.w.transpose();
-      lower(n, n) = std::sqrt(diagonal);
-    }
-    atoms.push_back(best);
-    selected[best] = 1;
-    work.gram_selected.col(n) = Eigen::Map<const Eigen::VectorXd>(column, num_atoms);
-    const int size = n + 1;
-    for (int i = 0; i < size; ++i)
-      work.rhs[i] = alpha0[atoms[i]];
-    work.gamma = work.rhs.head(size);
-    const auto factor = lower.topLeftCorner(size, size);
-    factor.triangularView<Eigen::Lower>().solveInPlace(work.gamma);
-    factor.transpose().triangularView<Eigen::Upper>().solveInPlace(work.gamma);
-    work.beta.noalias() = work.gram_selected.leftCols(size) * work.gamma;
-    work.alpha = alpha0 - work.beta;
-    if (error_stop) {
-      double delta = 0.0;
-      for (int i = 0; i < size; ++i)
-        delta += work.gamma[i] * work.beta[atoms[i]];
-      residual = residual - delta + delta_previous;
-      delta_previous = delta;
-    }
-  }
-  for (const int k : atoms)
-    selected[k] = 0;
-  coefficients.assign(work.gamma.data(), work.gamma.data() + std::min<Eigen::Index>(work.gamma.size(), static_cast<Eigen::Index>(atoms.size())));
-}
-
-// The same iteration over a precomputed Gram matrix, for every atom usable: the Cholesky factor in
-// a small row-major array, its forward solve kept from one iteration to the next (adding an atom
-// adds a row), and α = α0 − G_I γ fused with the next argmax over contiguous Gram columns
-// (detail::updateCorrelationsAndPick: AVX2 where available) — no Eigen dispatch or allocation per
-// iteration, which cost more than the arithmetic at S ≤ 20; the last iteration skips the update
-// when nothing reads it.
-void ompKernelFullGram(const Eigen::MatrixXd& gram, const double* alpha0, double signal_squared_norm,
-                       Eigen::Index entries, const SparseCodingParameters& parameters, Workspace& work,
-                       std::vector<int>& atoms, std::vector<double>& coefficients)
-{
-  const int num_atoms = static_cast<int>(gram.rows());
+  const int num_atoms = static_cast<int>(num_atoms_in);
   const int max_atoms = std::min(parameters.max_atoms, num_atoms);
   atoms.clear();
   coefficients.clear();
@@ -188,8 +98,9 @@ void ompKernelFullGram(const Eigen::MatrixXd& gram, const double* alpha0, double
   work.w_flat.resize(s);
   work.alpha_flat.resize(static_cast<std::size_t>(num_atoms));
   work.columns.resize(s);
-  if (work.weight.size() != static_cast<std::size_t>(num_atoms))
-    work.weight.assign(static_cast<std::size_t>(num_atoms), 1.0);
+  work.weight.resize(static_cast<std::size_t>(num_atoms));
+  for (int k = 0; k < num_atoms; ++k)
+    work.weight[static_cast<std::size_t>(k)] = usable == nullptr || (*usable)[static_cast<std::size_t>(k)] ? 1.0 : 0.0;
   double* lower = work.factor.data();  // row i at i·s
   double* y = work.forward.data();
   double* gamma = work.gamma_flat.data();
@@ -205,7 +116,7 @@ void ompKernelFullGram(const Eigen::MatrixXd& gram, const double* alpha0, double
   for (int n = 0; n < max_atoms; ++n) {
     if ((error_stop && residual <= budget) || best < 0)
       break;
-    const double* column = gram.col(best).data();
+    const double* column = gram.column(best);
     // New row of the factor: L w = G_{I,best}, then the diagonal.
     double diagonal = column[best];
     for (int i = 0; i < n; ++i) {
@@ -250,8 +161,6 @@ void ompKernelFullGram(const Eigen::MatrixXd& gram, const double* alpha0, double
       delta_previous = delta;
     }
   }
-  for (const int k : atoms)
-    weight[k] = 1.0;
   coefficients.assign(gamma, gamma + size);
 }
 
@@ -312,7 +221,9 @@ void batchOMPSingle(const Eigen::MatrixXd& gram, const Eigen::VectorXd& correlat
   if (gram.rows() != correlations.size() || gram.cols() != correlations.size())
     throw Error("sparse coding: the Gram matrix does not match the correlations");
   Workspace work;
-  ompKernelFullGram(gram, correlations.data(), signal_squared_norm, 0, parameters, work, atoms, coefficients);
+  FullGram access{gram};
+  ompKernel(access, correlations.data(), correlations.size(), signal_squared_norm, 0, parameters, nullptr, work, atoms,
+            coefficients);
 }
 
 SparseCodes batchOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& gram, const Eigen::MatrixXd& signals,
@@ -336,13 +247,14 @@ SparseCodes batchOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& g
 #pragma omp parallel
     {
       Workspace work;
+      FullGram access{gram};
       std::vector<int> chosen;
       std::vector<double> values;
 #pragma omp for schedule(dynamic, 16)
       for (Eigen::Index i = 0; i < size; ++i) {
         const Eigen::Index p = start + i;
-        ompKernelFullGram(gram, correlations.col(i).data(), signals.col(p).squaredNorm(), signals.rows(), parameters,
-                          work, chosen, values);
+        ompKernel(access, correlations.col(i).data(), gram.rows(), signals.col(p).squaredNorm(), signals.rows(),
+                  parameters, nullptr, work, chosen, values);
         codes.set(p, chosen, values);
       }
     }
@@ -427,8 +339,9 @@ void codeSharedMasks(const Eigen::MatrixXd& dictionary_t, const Eigen::MatrixXd&
           detail::computeCorrelations(atoms_by_row, block, block_correlations);
           for (std::size_t j = 0; j < size; ++j) {
             const auto column = static_cast<Eigen::Index>(j);
-            ompKernelFullGram(gram, block_correlations.col(column).data(), block.col(column).squaredNorm(),
-                              observed_count, parameters, work, chosen, values);
+            FullGram access{gram};
+            ompKernel(access, block_correlations.col(column).data(), num_atoms, block.col(column).squaredNorm(),
+                      observed_count, parameters, nullptr, work, chosen, values);
             for (std::size_t i = 0; i < chosen.size(); ++i)  // back to the un-normalised atoms
               values[i] *= inverse[chosen[i]];
             codes.set(list[start + j], chosen, values);
@@ -445,8 +358,8 @@ void codeSharedMasks(const Eigen::MatrixXd& dictionary_t, const Eigen::MatrixXd&
           observed[i] = signals(rows[i], p);
         correlations.noalias() = masked_t * observed;
         correlations = correlations.cwiseProduct(inverse);
-        ompKernel(access, correlations, observed.squaredNorm(), observed_count, parameters, &usable, work, chosen,
-                  values);
+        ompKernel(access, correlations.data(), num_atoms, observed.squaredNorm(), observed_count, parameters, &usable,
+                  work, chosen, values);
         for (std::size_t i = 0; i < chosen.size(); ++i)  // back to the un-normalised atoms
           values[i] *= inverse[chosen[i]];
         codes.set(p, chosen, values);
@@ -500,7 +413,8 @@ void codeSingleMasks(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& d
             hidden.push_back(r);
         alpha0 = correlations.col(i).cwiseProduct(inverse);
         LazyMaskedGram access(dictionary, dictionary_t, full_gram, hidden, observed, inverse, std::max(1, max_atoms));
-        ompKernel(access, alpha0, block_signals.col(i).squaredNorm(), n - static_cast<Eigen::Index>(hidden.size()),
+        ompKernel(access, alpha0.data(), num_atoms, block_signals.col(i).squaredNorm(),
+                  n - static_cast<Eigen::Index>(hidden.size()),
                   parameters, &usable, work, chosen, values);
         for (std::size_t j = 0; j < chosen.size(); ++j)
           values[j] *= inverse[chosen[j]];
