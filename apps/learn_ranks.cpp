@@ -67,6 +67,9 @@ Ranks::Ranks()
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
   mpi_ = true;
+  if (provided < MPI_THREAD_FUNNELED)  // every rank alike: the message is rank 0's
+    fail("this MPI library does not allow threads beside the one calling MPI (MPI_THREAD_FUNNELED), which learn's "
+         "OpenMP threads need: use an MPI built with thread support");
 #endif
 }
 
