@@ -65,6 +65,7 @@ struct LearnRun {
   bool online = false;
   int passes = 0;
   std::size_t buffer_capacity = 0, checkpoint_every = 0, stop_after = 0;
+  std::size_t inputs_before_stop = 0;  ///< inputs begun when the run stopped (a sharded run stops at a round's end)
   bool skip_bad = false;
   int shards = 1;                              ///< --shards, or the MPI ranks
   int ranks = 1, rank = 0;
@@ -259,6 +260,7 @@ void learnOnline(const Arguments& args, LearnRun& run)
     for (std::size_t i = progress.next_input; i < run.num_inputs; ++i) {
       if (run.stop_after > 0 && inputs_this_run == run.stop_after) {
         run.complete = false;
+        run.inputs_before_stop = inputs_this_run;
         break;
       }
       const std::string& path = run.inputs.paths[i];
@@ -366,7 +368,7 @@ void learnOnlineSharded(const Arguments& args, LearnRun& run, const Ranks& ranks
   run.max_input_patches = result.max_input_patches;
   run.max_buffered = result.max_buffered;
   run.batches = result.steps;
-  run.stop_after = result.complete ? run.stop_after : result.inputs_begun;  // where a sharded run stopped
+  run.inputs_before_stop = result.inputs_begun;
   run.cache_reads = result.cache_reads;
   run.cache_bytes = result.cache_bytes;
   run.complete = result.complete;
@@ -535,7 +537,8 @@ int learnAndReport(const Arguments& args, LearnRun& run, const Ranks& ranks)
     std::cout << learnJson(run, patch_count, observed_fraction, timer).str() << '\n';
   } else if (!run.quiet) {
     if (!run.complete) {
-      std::printf("stopped after %zu inputs; continue with --resume %s\n", run.stop_after, run.checkpoint_path.c_str());
+      std::printf("stopped after %zu inputs; continue with --resume %s\n", run.inputs_before_stop,
+                  run.checkpoint_path.c_str());
     } else {
       std::printf("learned %d atoms from %zu patches of %zu inputs -> %s", run.options.num_atoms, patch_count,
                   run.num_inputs - run.progress.skipped.size(), run.output.c_str());

@@ -34,6 +34,25 @@ int checkedCount(std::size_t count)
 }
 #endif
 
+#ifdef PCL_PATCHDICT_WITH_MPI
+MPI_Datatype mpiType(const std::int64_t*) { return MPI_INT64_T; }
+MPI_Datatype mpiType(const double*) { return MPI_DOUBLE; }
+#endif
+
+/** Every rank's `mine` (the same length on every rank), concatenated in rank order. */
+template <typename T>
+std::vector<T> allGatherSameLength(const std::vector<T>& mine, int size)
+{
+  if (size == 1)
+    return mine;
+  std::vector<T> all(mine.size() * static_cast<std::size_t>(size));
+#ifdef PCL_PATCHDICT_WITH_MPI
+  const int n = checkedCount(mine.size());
+  MPI_Allgather(mine.data(), n, mpiType(mine.data()), all.data(), n, mpiType(mine.data()), MPI_COMM_WORLD);
+#endif
+  return all;
+}
+
 }  // namespace
 
 bool Ranks::built()
@@ -140,26 +159,12 @@ void Ranks::broadcast(double* data, std::size_t count, int root) const
 
 std::vector<std::int64_t> Ranks::allGather(const std::vector<std::int64_t>& mine) const
 {
-  if (size_ == 1)
-    return mine;
-  std::vector<std::int64_t> all(mine.size() * static_cast<std::size_t>(size_));
-#ifdef PCL_PATCHDICT_WITH_MPI
-  const int n = checkedCount(mine.size());
-  MPI_Allgather(mine.data(), n, MPI_INT64_T, all.data(), n, MPI_INT64_T, MPI_COMM_WORLD);
-#endif
-  return all;
+  return allGatherSameLength(mine, size_);
 }
 
 std::vector<double> Ranks::allGather(const std::vector<double>& mine) const
 {
-  if (size_ == 1)
-    return mine;
-  std::vector<double> all(mine.size() * static_cast<std::size_t>(size_));
-#ifdef PCL_PATCHDICT_WITH_MPI
-  const int n = checkedCount(mine.size());
-  MPI_Allgather(mine.data(), n, MPI_DOUBLE, all.data(), n, MPI_DOUBLE, MPI_COMM_WORLD);
-#endif
-  return all;
+  return allGatherSameLength(mine, size_);
 }
 
 std::vector<std::string> Ranks::allGatherBytes(const std::string& mine) const

@@ -478,7 +478,6 @@ private:
     }
     clock_.to(result_.seconds_exchange);
     update(batches, offsets);
-    ++result_.rounds;
     return true;
   }
 

@@ -53,7 +53,7 @@ struct ShardedLearningResult {
   double observed_sum = 0.0;           ///< Σ over first-pass patches of their observed fraction
   std::vector<std::pair<std::uint64_t, std::string>> skipped;  ///< input index, reason (ascending)
   std::vector<std::uint64_t> patches_coded;                    ///< per shard, over all passes
-  std::size_t rounds = 0, max_input_patches = 0, max_buffered = 0, cache_reads = 0;
+  std::size_t max_input_patches = 0, max_buffered = 0, cache_reads = 0;
   std::uint64_t cache_bytes = 0;
   bool complete = true;                ///< false: stopped (stop_after), resumable
   std::size_t checkpoints_written = 0;

@@ -16,7 +16,6 @@ cd "$build_dir"
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 # Open MPI's own allocations at MPI_Init / MPI_Finalize (the learn-over-ranks tests): suppressed by
-# name, with its plugins kept loaded so that their frames have names (scripts/lsan-mpi.supp).
+# the frames that call them (scripts/lsan-mpi.supp).
 export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$root/scripts/lsan-mpi.supp:print_suppressions=0}"
-export OMPI_MCA_mca_base_component_disable_dlclose=1
 ctest --output-on-failure -j "$jobs" --timeout 1200 "$@"

@@ -121,6 +121,16 @@ bool endsWithOneErrorLine(const std::string& err)
   return error_lines == 1 && last.find("error:") != std::string::npos;
 }
 
+Eigen::MatrixXd gaussianMatrix(Eigen::Index rows, Eigen::Index cols, std::uint64_t seed)
+{
+  std::mt19937_64 random(seed);
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd m(rows, cols);
+  for (Eigen::Index i = 0; i < m.size(); ++i)
+    m.data()[i] = normal(random);
+  return m;
+}
+
 void writePatchSet(const std::string& path, std::uint64_t seed, int count)
 {
   using pcl::patchdict::ObservationMask;

@@ -50,6 +50,8 @@ std::string jsonString(const std::string& json, const std::string& key);
 bool isOneLine(const std::string& text);
 /** Progress lines may precede it, but an error is exactly one line, the last, saying "error:". */
 bool endsWithOneErrorLine(const std::string& err);
+/** rows × cols standard normal entries drawn with `seed` (mt19937_64, column-major order). */
+Eigen::MatrixXd gaussianMatrix(Eigen::Index rows, Eigen::Index cols, std::uint64_t seed);
 /** A .pds of `count` 8×8 sinusoidal height maps (phase and tilt drawn from `seed`), every fifth
   * with some bins unobserved: small patch sets for `learn`. */
 void writePatchSet(const std::string& path, std::uint64_t seed, int count = 300);

@@ -58,19 +58,27 @@ void PatchShuffleBuffer::flush(OnlineDictionaryLearner& learner)
 
 void PatchShuffleBuffer::add(const Eigen::MatrixXd& heights, const ObservationMask& observed, const BatchSink& sink)
 {
+  if (heights.cols() == 0)
+    return;
+  check(heights, observed);
   for (Eigen::Index p = 0; p < heights.cols(); ++p)
-    addColumn(heights, observed, p, sink);
+    push(heights, observed, p, sink);
 }
 
 void PatchShuffleBuffer::addColumn(const Eigen::MatrixXd& heights, const ObservationMask& observed,
                                    Eigen::Index column, const BatchSink& sink)
 {
-  if (observed.size() != 0 && (observed.rows() != heights.rows() || observed.cols() != heights.cols()))
-    throw Error("shuffle buffer: the mask does not match the patches");
   if (column < 0 || column >= heights.cols())
     throw Error("shuffle buffer: column " + std::to_string(column) + " of " + std::to_string(heights.cols()));
-  reserveRows(heights.rows());
+  check(heights, observed);
   push(heights, observed, column, sink);
+}
+
+void PatchShuffleBuffer::check(const Eigen::MatrixXd& heights, const ObservationMask& observed)
+{
+  if (observed.size() != 0 && (observed.rows() != heights.rows() || observed.cols() != heights.cols()))
+    throw Error("shuffle buffer: the mask does not match the patches");
+  reserveRows(heights.rows());
 }
 
 void PatchShuffleBuffer::push(const Eigen::MatrixXd& heights, const ObservationMask& observed, Eigen::Index column,

@@ -3,25 +3,15 @@
 // bits whatever the batch it is computed in.
 #include "coding/correlations.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
 
 using pcl::patchdict::detail::computeCorrelations;
 
-namespace {
-
-Eigen::MatrixXd gaussian(Eigen::Index rows, Eigen::Index cols, std::uint64_t seed)
-{
-  std::mt19937_64 random(seed);
-  std::normal_distribution<double> normal;
-  Eigen::MatrixXd m(rows, cols);
-  for (Eigen::Index i = 0; i < m.size(); ++i)
-    m.data()[i] = normal(random);
-  return m;
-}
-
-}  // namespace
+using test_support::gaussianMatrix;
 
 TEST(Correlations, EqualEigensProductForEveryShape)
 {
@@ -29,7 +19,7 @@ TEST(Correlations, EqualEigensProductForEveryShape)
   for (const Eigen::Index n : {1, 3, 4, 7, 64, 257})
     for (const Eigen::Index atoms : {1, 3, 4, 5, 9, 100})
       for (const Eigen::Index signals : {1, 2, 3, 4, 7, 31}) {
-        const Eigen::MatrixXd d = gaussian(n, atoms, 1 + n), x = gaussian(n, signals, 2 + atoms);
+        const Eigen::MatrixXd d = gaussianMatrix(n, atoms, 1 + n), x = gaussianMatrix(n, signals, 2 + atoms);
         Eigen::MatrixXd c;
         computeCorrelations(d, x, c);
         ASSERT_EQ(c.rows(), atoms);
@@ -45,7 +35,7 @@ TEST(Correlations, EachEntryHasTheSameBitsInAnyBatch)
 {
   if (!pcl::patchdict::detail::correlationsUseAvx2())
     GTEST_SKIP() << "Eigen's product (no AVX2 here) promises the same bits for the same batch only";
-  const Eigen::MatrixXd d = gaussian(256, 101, 5), x = gaussian(256, 40, 6);
+  const Eigen::MatrixXd d = gaussianMatrix(256, 101, 5), x = gaussianMatrix(256, 40, 6);
   Eigen::MatrixXd all;
   computeCorrelations(d, x, all);
   for (Eigen::Index start : {0, 1, 5, 38}) {

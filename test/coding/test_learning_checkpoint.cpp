@@ -5,6 +5,8 @@
 #include <pcl_patchdict/coding/learning_checkpoint.h>
 #include <pcl_patchdict/coding/patch_shuffle_buffer.h>
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -15,12 +17,7 @@ namespace {
 
 Eigen::MatrixXd randomSignals(int rows, int cols, std::uint64_t seed)
 {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> gaussian;
-  Eigen::MatrixXd signals(rows, cols);
-  for (Eigen::Index i = 0; i < signals.size(); ++i)
-    signals.data()[i] = gaussian(rng);
-  return signals;
+  return test_support::gaussianMatrix(rows, cols, seed);
 }
 
 ObservationMask someHidden(int rows, int cols)

@@ -69,6 +69,8 @@ private:
                  const BatchSink& sink);
   void feed(const BatchSink& sink);
   void reserveRows(Eigen::Index rows);
+  /** The mask matches the patches (else Error); the buffer holds their rows. */
+  void check(const Eigen::MatrixXd& heights, const ObservationMask& observed);
 
   std::size_t capacity_;
   int batch_size_;
