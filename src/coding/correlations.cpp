@@ -1,7 +1,11 @@
-// computeCorrelations: the AVX2 kernel when the CPU has AVX2 and FMA, Eigen's product otherwise.
+// computeCorrelations and updateCorrelationsAndPick: the AVX-512 kernels where the CPU has them, else
+// the AVX2 + FMA ones (the same bits), else Eigen's product and plain loops.
 #include "coding/correlations.h"
 
 #include <cstddef>
+#include <memory>
+#include <vector>
+#include <stdexcept>
 
 namespace pcl {
 namespace patchdict {
@@ -13,24 +17,64 @@ void correlationsAvx2(const double* atoms, std::ptrdiff_t atom_stride, std::ptrd
                       std::ptrdiff_t out_stride);
 int updateAndPickAvx2(const double* alpha0, const double* const* columns, const double* gamma, int size, int num_atoms,
                       const double* weight, double threshold, double* alpha);
+std::ptrdiff_t correlationsAvx512PanelSize(std::ptrdiff_t n, std::ptrdiff_t num_atoms);
+void correlationsAvx512(const double* atoms, std::ptrdiff_t atom_stride, std::ptrdiff_t n, std::ptrdiff_t num_atoms,
+                        const double* signals, std::ptrdiff_t signal_stride, std::ptrdiff_t num_signals, double* out,
+                        std::ptrdiff_t out_stride, double* panels);
+int updateAndPickAvx512(const double* alpha0, const double* const* columns, const double* gamma, int size,
+                        int num_atoms, const double* weight, double threshold, double* alpha);
 #endif
 
-bool correlationsUseAvx2()
+SimdKernels bestSimdKernels()
 {
 #if defined(__x86_64__) && defined(__GNUC__)
-  static const bool available = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  return available;
+  // __builtin_cpu_supports also asks whether the operating system saves the wider registers.
+  static const SimdKernels best = [] {
+    if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("fma"))
+      return SimdKernels::Portable;
+    return __builtin_cpu_supports("avx512f") ? SimdKernels::Avx512 : SimdKernels::Avx2;
+  }();
+  return best;
 #else
-  return false;
+  return SimdKernels::Portable;
 #endif
 }
+
+bool correlationsUseAvx2() { return bestSimdKernels() != SimdKernels::Portable; }
+
+namespace {
+
+SimdKernels checked(SimdKernels kernels)
+{
+  if (static_cast<int>(kernels) > static_cast<int>(bestSimdKernels()))
+    throw std::invalid_argument("correlations: this CPU cannot run the SIMD kernels asked for");
+  return kernels;
+}
+
+}  // namespace
 
 int updateCorrelationsAndPick(const double* alpha0, const double* const* columns, const double* gamma, int size,
                               int num_atoms, const double* weight, double threshold, double* alpha)
 {
+  return updateCorrelationsAndPick(alpha0, columns, gamma, size, num_atoms, weight, threshold, alpha,
+                                   bestSimdKernels());
+}
+
+int updateCorrelationsAndPick(const double* alpha0, const double* const* columns, const double* gamma, int size,
+                              int num_atoms, const double* weight, double threshold, double* alpha,
+                              SimdKernels kernels)
+{
 #if defined(__x86_64__)
-  if (correlationsUseAvx2())
-    return updateAndPickAvx2(alpha0, columns, gamma, size, num_atoms, weight, threshold, alpha);
+  switch (checked(kernels)) {
+    case SimdKernels::Avx512:
+      return updateAndPickAvx512(alpha0, columns, gamma, size, num_atoms, weight, threshold, alpha);
+    case SimdKernels::Avx2:
+      return updateAndPickAvx2(alpha0, columns, gamma, size, num_atoms, weight, threshold, alpha);
+    case SimdKernels::Portable:
+      break;
+  }
+#else
+  checked(kernels);
 #endif
   int best = -1;
   double top = threshold;
@@ -51,9 +95,29 @@ int updateCorrelationsAndPick(const double* alpha0, const double* const* columns
 void computeCorrelations(const Eigen::MatrixXd& dictionary, const Eigen::Ref<const Eigen::MatrixXd>& signals,
                          Eigen::MatrixXd& out)
 {
+  computeCorrelations(dictionary, signals, out, bestSimdKernels());
+}
+
+void computeCorrelations(const Eigen::MatrixXd& dictionary, const Eigen::Ref<const Eigen::MatrixXd>& signals,
+                         Eigen::MatrixXd& out, SimdKernels kernels)
+{
+  checked(kernels);
   out.resize(dictionary.cols(), signals.cols());
 #if defined(__x86_64__)
-  if (correlationsUseAvx2() && dictionary.rows() > 0) {
+  if (kernels == SimdKernels::Avx512 && dictionary.rows() > 0) {
+    // The kernel's packed atom panels: scratch of this thread, 64-byte aligned for its loads.
+    thread_local std::vector<double> scratch;
+    const std::size_t size = static_cast<std::size_t>(correlationsAvx512PanelSize(dictionary.rows(), dictionary.cols()));
+    if (scratch.size() < size + 8)
+      scratch.resize(size + 8);
+    void* start = scratch.data();
+    std::size_t space = scratch.size() * sizeof(double);
+    double* panels = static_cast<double*>(std::align(64, size * sizeof(double), start, space));
+    correlationsAvx512(dictionary.data(), dictionary.outerStride(), dictionary.rows(), dictionary.cols(),
+                       signals.data(), signals.outerStride(), signals.cols(), out.data(), out.outerStride(), panels);
+    return;
+  }
+  if (kernels == SimdKernels::Avx2 && dictionary.rows() > 0) {
     correlationsAvx2(dictionary.data(), dictionary.outerStride(), dictionary.rows(), dictionary.cols(), signals.data(),
                      signals.outerStride(), signals.cols(), out.data(), out.outerStride());
     return;

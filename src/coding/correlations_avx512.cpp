@@ -1,0 +1,266 @@
+// The AVX-512 kernels of computeCorrelations and updateCorrelationsAndPick, compiled with
+// -mavx512f: the AVX2 kernels' sums in the same order, so they give the same bits, twice as wide.
+// As in correlations_avx2.cpp nothing here is a header's template or inline function (no Eigen, no
+// std::); the templates below live in an anonymous namespace, so no other file can link to them.
+// GCC 12's AVX-512 intrinsics pass _mm512_undefined_pd() (deliberately uninitialised) to the
+// builtins, which -Wuninitialized then reports from inside the header (GCC bug 105593, fixed in 13).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+#include <immintrin.h>
+
+#include <cstddef>
+
+namespace pcl {
+namespace patchdict {
+namespace detail {
+
+namespace {
+
+/** Σ of four lanes, pairwise: (l0 + l1) + (l2 + l3), as the AVX2 kernel sums them. */
+double laneSum(__m256d v)
+{
+  const __m128d low = _mm256_castpd256_pd128(v), high = _mm256_extractf128_pd(v, 1);
+  const double l0 = _mm_cvtsd_f64(low), l1 = _mm_cvtsd_f64(_mm_unpackhi_pd(low, low));
+  const double l2 = _mm_cvtsd_f64(high), l3 = _mm_cvtsd_f64(_mm_unpackhi_pd(high, high));
+  return (l0 + l1) + (l2 + l3);
+}
+
+/** One dot product in the AVX2 kernel's order (four lanes by FMA, the lanes pairwise, then the
+  * leftover rows one by one). */
+double dot(const double* a, const double* b, std::ptrdiff_t n)
+{
+  const std::ptrdiff_t body = n & ~std::ptrdiff_t{3};
+  __m256d sum = _mm256_setzero_pd();
+  for (std::ptrdiff_t i = 0; i < body; i += 4)
+    sum = _mm256_fmadd_pd(_mm256_loadu_pd(a + i), _mm256_loadu_pd(b + i), sum);
+  double total = laneSum(sum);
+  for (std::ptrdiff_t i = body; i < n; ++i)
+    total = __builtin_fma(a[i], b[i], total);
+  return total;
+}
+
+/** Two four-row slices in one register: a's rows i … i+3 below, b's above. */
+inline __m512d pairAt(const double* a, const double* b, std::ptrdiff_t i)
+{
+  return _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_loadu_pd(a + i)), _mm256_loadu_pd(b + i), 1);
+}
+
+/** The lane sums of two pair accumulators A = (atoms a, c) and B = (b, d), four lanes each:
+  * [a, b, c, d] in the low halves' order of _mm512_shuffle_f64x2 below. Per atom the sum is
+  * (l0 + l1) + (l2 + l3), as laneSum: IEEE addition is commutative, so the bits agree. */
+inline __m512d pairSums(__m512d A, __m512d B)
+{
+  // Position 2j: A's lanes 2j + (2j+1); position 2j+1: B's.
+  return _mm512_add_pd(_mm512_shuffle_pd(A, B, 0x00), _mm512_shuffle_pd(A, B, 0xFF));
+}
+
+/** The eight-atom panels the kernel reads: per four rows, the pairs of atoms (0, 2), (1, 3),
+  * (4, 6), (5, 7) of each block of eight, four rows of each, so that one aligned load fetches a
+  * pair and the lane sums land in atom order. */
+void packPanels(const double* atoms, std::ptrdiff_t atom_stride, std::ptrdiff_t body, std::ptrdiff_t blocks,
+                double* panels)
+{
+  constexpr int order[8] = {0, 2, 1, 3, 4, 6, 5, 7};
+  for (std::ptrdiff_t b = 0; b < blocks; ++b) {
+    const double* d = atoms + b * 8 * atom_stride;
+    for (std::ptrdiff_t i = 0; i < body; i += 4)
+      for (int a = 0; a < 8; ++a) {
+        _mm256_store_pd(panels, _mm256_loadu_pd(d + order[a] * atom_stride + i));
+        panels += 4;
+      }
+  }
+}
+
+/** Rows 0 … body of atoms k … k+2P−1 against Q signals, into out, then the leftover rows. The
+  * pair accumulators hold atoms (0, 2), (1, 3), (4, 6), (5, 7) of the block, so the lane sums land
+  * in atom order without a permutation. Eight atoms come from their packed panel, four (the
+  * dictionary's last block, if any) straight from the columns. */
+template <int P, int Q>
+void block(const double* atoms, std::ptrdiff_t atom_stride, std::ptrdiff_t n, const double* panel,
+           const double* const* x, double* out, std::ptrdiff_t out_stride)
+{
+  static_assert(P == 2 || P == 4, "blocks of 4 or 8 atoms");
+  const std::ptrdiff_t body = n & ~std::ptrdiff_t{3};
+  __m512d acc[P][Q];
+  for (int a = 0; a < P; ++a)
+    for (int s = 0; s < Q; ++s)
+      acc[a][s] = _mm512_setzero_pd();
+  for (std::ptrdiff_t i = 0; i < body; i += 4) {
+    __m512d xv[Q];
+    for (int s = 0; s < Q; ++s)
+      xv[s] = _mm512_broadcast_f64x4(_mm256_loadu_pd(x[s] + i));
+    for (int a = 0; a < P; ++a) {
+      const __m512d dv = P == 4 ? _mm512_load_pd(panel + 8 * i + 8 * a)
+                                : pairAt(atoms + a * atom_stride, atoms + (a + 2) * atom_stride, i);
+      for (int s = 0; s < Q; ++s)
+        acc[a][s] = _mm512_fmadd_pd(dv, xv[s], acc[a][s]);
+    }
+  }
+  for (int s = 0; s < Q; ++s) {
+    double* o = out + s * out_stride;
+    if (P == 4) {
+      const __m512d ab = pairSums(acc[0][s], acc[1][s]), cd = pairSums(acc[2][s], acc[3][s]);
+      // [ab.L0, ab.L2, cd.L0, cd.L2] + [ab.L1, ab.L3, cd.L1, cd.L3] = atoms 0 … 7.
+      _mm512_storeu_pd(o, _mm512_add_pd(_mm512_shuffle_f64x2(ab, cd, 0x88), _mm512_shuffle_f64x2(ab, cd, 0xDD)));
+    } else {
+      const __m512d ab = pairSums(acc[0][s], acc[1][s]);
+      _mm256_storeu_pd(o, _mm256_add_pd(_mm512_castpd512_pd256(_mm512_shuffle_f64x2(ab, ab, 0x88)),
+                                        _mm512_castpd512_pd256(_mm512_shuffle_f64x2(ab, ab, 0xDD))));
+    }
+    for (int a = 0; a < 2 * P; ++a) {
+      const double* d = atoms + a * atom_stride;
+      double total = o[a];
+      for (std::ptrdiff_t i = body; i < n; ++i)
+        total = __builtin_fma(d[i], x[s][i], total);
+      o[a] = total;
+    }
+  }
+}
+
+/** All atoms against Q signals: blocks of 8, one of 4, then single dot products. */
+template <int Q>
+void signalBlock(const double* atoms, std::ptrdiff_t atom_stride, std::ptrdiff_t n, std::ptrdiff_t num_atoms,
+                 const double* panels, const double* const* x, double* out, std::ptrdiff_t out_stride)
+{
+  const std::ptrdiff_t body = n & ~std::ptrdiff_t{3};
+  std::ptrdiff_t k = 0;
+  for (; k + 8 <= num_atoms; k += 8)
+    block<4, Q>(atoms + k * atom_stride, atom_stride, n, panels + k * body, x, out + k, out_stride);
+  for (; k + 4 <= num_atoms; k += 4)
+    block<2, Q>(atoms + k * atom_stride, atom_stride, n, nullptr, x, out + k, out_stride);
+  for (; k < num_atoms; ++k)
+    for (int s = 0; s < Q; ++s)
+      out[s * out_stride + k] = dot(atoms + k * atom_stride, x[s], n);
+}
+
+}  // namespace
+
+std::ptrdiff_t correlationsAvx512PanelSize(std::ptrdiff_t n, std::ptrdiff_t num_atoms)
+{
+  return (num_atoms / 8) * 8 * (n & ~std::ptrdiff_t{3});
+}
+
+/** out(k, p) = Σ_i atoms(i, k) · signals(i, p), all column-major, each entry summed as
+  * correlationsAvx2 sums it. `panels`: correlationsAvx512PanelSize(n, num_atoms) doubles, 64-byte
+  * aligned, the caller's scratch. */
+void correlationsAvx512(const double* atoms, std::ptrdiff_t atom_stride, std::ptrdiff_t n, std::ptrdiff_t num_atoms,
+                        const double* signals, std::ptrdiff_t signal_stride, std::ptrdiff_t num_signals, double* out,
+                        std::ptrdiff_t out_stride, double* panels)
+{
+  // 4 pairs × 6 signals: 24 accumulators, 6 signal registers and one pair of atoms in the 32.
+  // Packing costs n·K copies per call, against n·K·P multiply-adds.
+  constexpr int kSignals = 6;
+  packPanels(atoms, atom_stride, n & ~std::ptrdiff_t{3}, num_atoms / 8, panels);
+  const double* x[kSignals];
+  for (std::ptrdiff_t p = 0; p < num_signals; p += kSignals) {
+    const std::ptrdiff_t count = num_signals - p < kSignals ? num_signals - p : kSignals;
+    for (std::ptrdiff_t s = 0; s < count; ++s)
+      x[s] = signals + (p + s) * signal_stride;
+    double* o = out + p * out_stride;
+    switch (count) {
+      case 6: signalBlock<6>(atoms, atom_stride, n, num_atoms, panels, x, o, out_stride); break;
+      case 5: signalBlock<5>(atoms, atom_stride, n, num_atoms, panels, x, o, out_stride); break;
+      case 4: signalBlock<4>(atoms, atom_stride, n, num_atoms, panels, x, o, out_stride); break;
+      case 3: signalBlock<3>(atoms, atom_stride, n, num_atoms, panels, x, o, out_stride); break;
+      case 2: signalBlock<2>(atoms, atom_stride, n, num_atoms, panels, x, o, out_stride); break;
+      default: signalBlock<1>(atoms, atom_stride, n, num_atoms, panels, x, o, out_stride); break;
+    }
+  }
+}
+
+namespace {
+
+/** Running first maxima of weight·|α| per lane, and their atom indices. */
+struct LaneMaxima {
+  __m512d value, index;
+  /** Takes the lanes of `a` (atoms k … k+7 where `live`) that beat the maxima so far. */
+  inline void offer(__m512d a, const double* weight, int k, __mmask8 live)
+  {
+    const __m512d v = _mm512_mul_pd(_mm512_abs_pd(a), _mm512_maskz_loadu_pd(live, weight + k));
+    const __mmask8 better = _mm512_mask_cmp_pd_mask(live, v, value, _CMP_GT_OQ);
+    value = _mm512_mask_blend_pd(better, value, v);
+    index = _mm512_mask_blend_pd(better, index,
+                                 _mm512_add_pd(_mm512_set1_pd(static_cast<double>(k)),
+                                               _mm512_setr_pd(0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0)));
+  }
+};
+
+/** α for atoms k … k+8B−1 (B registers side by side, so that their FMA chains overlap). */
+template <int B>
+inline void updateBlocks(const double* alpha0, const double* const* columns, const double* gamma, int size, int k,
+                         const double* weight, double* alpha, LaneMaxima* maxima)
+{
+  __m512d a[B];
+  for (int b = 0; b < B; ++b)
+    a[b] = _mm512_loadu_pd(alpha0 + k + 8 * b);
+  for (int i = 0; i < size; ++i) {
+    const __m512d g = _mm512_set1_pd(gamma[i]);
+    const double* column = columns[i] + k;
+    for (int b = 0; b < B; ++b)
+      a[b] = _mm512_fnmadd_pd(g, _mm512_loadu_pd(column + 8 * b), a[b]);
+  }
+  for (int b = 0; b < B; ++b) {
+    _mm512_storeu_pd(alpha + k + 8 * b, a[b]);
+    maxima[b].offer(a[b], weight, k + 8 * b, 0xFF);
+  }
+}
+
+}  // namespace
+
+/** updateAndPickAvx2 eight lanes wide: the same FMA chain per atom and the same first maximum.
+  * Four blocks of eight atoms go side by side: one block's chain of `size` FMAs alone would wait on
+  * the FMA latency at every step. */
+int updateAndPickAvx512(const double* alpha0, const double* const* columns, const double* gamma, int size,
+                        int num_atoms, const double* weight, double threshold, double* alpha)
+{
+  LaneMaxima maxima[4];
+  for (LaneMaxima& m : maxima) {
+    m.value = _mm512_set1_pd(threshold);
+    m.index = _mm512_set1_pd(-1.0);
+  }
+  int k = 0;
+  for (; k + 32 <= num_atoms; k += 32)
+    updateBlocks<4>(alpha0, columns, gamma, size, k, weight, alpha, maxima);
+  for (; k + 8 <= num_atoms; k += 8)
+    updateBlocks<1>(alpha0, columns, gamma, size, k, weight, alpha, maxima);
+  if (k < num_atoms) {
+    // The last block loads and stores only its atoms; the others' lanes stay out of the maxima.
+    const __mmask8 live = static_cast<__mmask8>((1u << (num_atoms - k)) - 1u);
+    __m512d a = _mm512_maskz_loadu_pd(live, alpha0 + k);
+    for (int i = 0; i < size; ++i)
+      a = _mm512_fnmadd_pd(_mm512_set1_pd(gamma[i]), _mm512_maskz_loadu_pd(live, columns[i] + k), a);
+    _mm512_mask_storeu_pd(alpha + k, live, a);
+    maxima[1].offer(a, weight, k, live);
+  }
+  // Lane by lane the larger maximum, on a tie the smaller atom (the first maximum); −1 never wins.
+  for (int step = 2; step >= 1; step /= 2)
+    for (int b = 0; b < step; ++b) {
+      LaneMaxima& m = maxima[b];
+      const LaneMaxima& other = maxima[b + step];
+      const __mmask8 take = _mm512_cmp_pd_mask(other.value, m.value, _CMP_GT_OQ) |
+                            (_mm512_cmp_pd_mask(other.value, m.value, _CMP_EQ_OQ) &
+                             _mm512_cmp_pd_mask(other.index, m.index, _CMP_LT_OQ) &
+                             _mm512_cmp_pd_mask(other.index, _mm512_setzero_pd(), _CMP_GE_OQ));
+      m.value = _mm512_mask_blend_pd(take, m.value, other.value);
+      m.index = _mm512_mask_blend_pd(take, m.index, other.index);
+    }
+  double values[8], indices[8];
+  _mm512_storeu_pd(values, maxima[0].value);
+  _mm512_storeu_pd(indices, maxima[0].index);
+  double top = threshold;
+  int best = -1;
+  for (int lane = 0; lane < 8; ++lane) {
+    const int at = static_cast<int>(indices[lane]);
+    if (at >= 0 && (values[lane] > top || (values[lane] == top && (best < 0 || at < best)))) {
+      top = values[lane];
+      best = at;
+    }
+  }
+  return best;
+}
+
+}  // namespace detail
+}  // namespace patchdict
+}  // namespace pcl
