@@ -15,14 +15,18 @@ namespace detail {
 void correlationsAvx2(const double* atoms, std::ptrdiff_t atom_stride, std::ptrdiff_t n, std::ptrdiff_t num_atoms,
                       const double* signals, std::ptrdiff_t signal_stride, std::ptrdiff_t num_signals, double* out,
                       std::ptrdiff_t out_stride);
-int updateAndPickAvx2(const double* alpha0, const double* const* columns, const double* gamma, int size, int num_atoms,
-                      const double* weight, double threshold, double* alpha);
+int pickLargestAvx2(const double* alpha, const double* weight, int num_atoms, double threshold);
+int projectUpdateAndPickAvx2(const double* g, const double* basis, std::ptrdiff_t stride, const double* l, int size,
+                             double scale, double z, int num_atoms, const double* weight, double threshold, double* u,
+                             double* alpha);
 std::ptrdiff_t correlationsAvx512PanelSize(std::ptrdiff_t n, std::ptrdiff_t num_atoms);
 void correlationsAvx512(const double* atoms, std::ptrdiff_t atom_stride, std::ptrdiff_t n, std::ptrdiff_t num_atoms,
                         const double* signals, std::ptrdiff_t signal_stride, std::ptrdiff_t num_signals, double* out,
                         std::ptrdiff_t out_stride, double* panels);
-int updateAndPickAvx512(const double* alpha0, const double* const* columns, const double* gamma, int size,
-                        int num_atoms, const double* weight, double threshold, double* alpha);
+int pickLargestAvx512(const double* alpha, const double* weight, int num_atoms, double threshold);
+int projectUpdateAndPickAvx512(const double* g, const double* basis, std::ptrdiff_t stride, const double* l, int size,
+                               double scale, double z, int num_atoms, const double* weight, double threshold,
+                               double* u, double* alpha);
 #endif
 
 SimdKernels bestSimdKernels()
@@ -53,23 +57,52 @@ SimdKernels checked(SimdKernels kernels)
 
 }  // namespace
 
-int updateCorrelationsAndPick(const double* alpha0, const double* const* columns, const double* gamma, int size,
-                              int num_atoms, const double* weight, double threshold, double* alpha)
+int pickLargest(const double* alpha, const double* weight, int num_atoms, double threshold)
 {
-  return updateCorrelationsAndPick(alpha0, columns, gamma, size, num_atoms, weight, threshold, alpha,
-                                   bestSimdKernels());
+  return pickLargest(alpha, weight, num_atoms, threshold, bestSimdKernels());
 }
 
-int updateCorrelationsAndPick(const double* alpha0, const double* const* columns, const double* gamma, int size,
-                              int num_atoms, const double* weight, double threshold, double* alpha,
-                              SimdKernels kernels)
+int pickLargest(const double* alpha, const double* weight, int num_atoms, double threshold, SimdKernels kernels)
+{
+#if defined(__x86_64__)
+  switch (checked(kernels)) {
+    case SimdKernels::Avx512: return pickLargestAvx512(alpha, weight, num_atoms, threshold);
+    case SimdKernels::Avx2: return pickLargestAvx2(alpha, weight, num_atoms, threshold);
+    case SimdKernels::Portable: break;
+  }
+#else
+  checked(kernels);
+#endif
+  int best = -1;
+  double top = threshold;
+  for (int k = 0; k < num_atoms; ++k) {
+    const double value = (alpha[k] < 0 ? -alpha[k] : alpha[k]) * weight[k];
+    if (value > top) {
+      top = value;
+      best = k;
+    }
+  }
+  return best;
+}
+
+int projectUpdateAndPick(const double* g, const double* basis, std::ptrdiff_t stride, const double* l, int size,
+                         double scale, double z, int num_atoms, const double* weight, double threshold, double* u,
+                         double* alpha)
+{
+  return projectUpdateAndPick(g, basis, stride, l, size, scale, z, num_atoms, weight, threshold, u, alpha,
+                              bestSimdKernels());
+}
+
+int projectUpdateAndPick(const double* g, const double* basis, std::ptrdiff_t stride, const double* l, int size,
+                         double scale, double z, int num_atoms, const double* weight, double threshold, double* u,
+                         double* alpha, SimdKernels kernels)
 {
 #if defined(__x86_64__)
   switch (checked(kernels)) {
     case SimdKernels::Avx512:
-      return updateAndPickAvx512(alpha0, columns, gamma, size, num_atoms, weight, threshold, alpha);
+      return projectUpdateAndPickAvx512(g, basis, stride, l, size, scale, z, num_atoms, weight, threshold, u, alpha);
     case SimdKernels::Avx2:
-      return updateAndPickAvx2(alpha0, columns, gamma, size, num_atoms, weight, threshold, alpha);
+      return projectUpdateAndPickAvx2(g, basis, stride, l, size, scale, z, num_atoms, weight, threshold, u, alpha);
     case SimdKernels::Portable:
       break;
   }
@@ -79,9 +112,12 @@ int updateCorrelationsAndPick(const double* alpha0, const double* const* columns
   int best = -1;
   double top = threshold;
   for (int k = 0; k < num_atoms; ++k) {
-    double a = alpha0[k];
+    double v = g[k];
     for (int i = 0; i < size; ++i)
-      a -= gamma[i] * columns[i][k];
+      v -= l[i] * basis[i * stride + k];
+    v *= scale;
+    u[k] = v;
+    const double a = alpha[k] - z * v;
     alpha[k] = a;
     const double value = (a < 0 ? -a : a) * weight[k];
     if (value > top) {

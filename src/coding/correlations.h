@@ -1,9 +1,11 @@
 // Correlations C = DᵀX of signals with a dictionary's atoms, the product Batch-OMP starts from, and
-// Batch-OMP's fused update: hand-written AVX-512 or AVX2 + FMA kernels (the same bits; chosen at run
+// Batch-OMP's fused step over the atoms: hand-written AVX-512 or AVX2 + FMA kernels (the same bits; chosen at run
 // time, the build itself targets plain x86-64), Eigen's product and plain loops elsewhere.
 #pragma once
 
 #include <Eigen/Core>
+
+#include <cstddef>
 
 namespace pcl {
 namespace patchdict {
@@ -27,15 +29,23 @@ void computeCorrelations(const Eigen::MatrixXd& dictionary, const Eigen::Ref<con
 void computeCorrelations(const Eigen::MatrixXd& dictionary, const Eigen::Ref<const Eigen::MatrixXd>& signals,
                          Eigen::MatrixXd& out, SimdKernels kernels);
 
-/** One Batch-OMP step over a precomputed Gram matrix: alpha = alpha0 − Σ_i gamma(i)·columns[i]
-  * (the chosen atoms' Gram columns, summed in order i), and the index of the first largest
-  * weight(k)·|alpha(k)| above `threshold` (weight 0 excludes an atom), or −1. AVX-512 or AVX2 + FMA where
-  * computeCorrelations uses them, plain loops (the same order, without FMA) elsewhere. */
-int updateCorrelationsAndPick(const double* alpha0, const double* const* columns, const double* gamma, int size,
-                              int num_atoms, const double* weight, double threshold, double* alpha);
-int updateCorrelationsAndPick(const double* alpha0, const double* const* columns, const double* gamma, int size,
-                              int num_atoms, const double* weight, double threshold, double* alpha,
-                              SimdKernels kernels);
+/** The first k of the largest weight(k)·|alpha(k)| above `threshold` (weight 0 excludes an atom),
+  * or −1: Batch-OMP's first choice. */
+int pickLargest(const double* alpha, const double* weight, int num_atoms, double threshold);
+int pickLargest(const double* alpha, const double* weight, int num_atoms, double threshold, SimdKernels kernels);
+
+/** One step of Batch-OMP in its projected form. With U = G_I L⁻ᵀ (`basis`: its `size` columns,
+  * `stride` apart) and l the new atom's row of the Cholesky factor L of G_II, the new column of U
+  * is u = (g − U l) · scale (g: the new atom's Gram column, scale = 1 / its diagonal entry of L),
+  * stored to `u`; then alpha −= z·u (z: the new entry of L⁻¹ α0_I), and the first k of the largest
+  * weight(k)·|alpha(k)| above `threshold` is returned, or −1. Each entry is summed in order i; the
+  * AVX-512 and AVX2 + FMA kernels give the same bits, the plain loops (no FMA) others. */
+int projectUpdateAndPick(const double* g, const double* basis, std::ptrdiff_t stride, const double* l, int size,
+                         double scale, double z, int num_atoms, const double* weight, double threshold, double* u,
+                         double* alpha);
+int projectUpdateAndPick(const double* g, const double* basis, std::ptrdiff_t stride, const double* l, int size,
+                         double scale, double z, int num_atoms, const double* weight, double threshold, double* u,
+                         double* alpha, SimdKernels kernels);
 
 /** True when computeCorrelations runs the AVX2 or AVX-512 kernel on this CPU. */
 bool correlationsUseAvx2();

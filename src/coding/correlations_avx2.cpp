@@ -84,45 +84,88 @@ void correlationsAvx2(const double* atoms, std::ptrdiff_t atom_stride, std::ptrd
       out[p * out_stride + k] = dot(atoms + k * atom_stride, signals + p * signal_stride, n);
 }
 
-/** alpha(k) = alpha0(k) − Σ_i gamma(i) · columns[i][k] (i in order, by FMA), then the first k of
-  * the largest weight(k)·|alpha(k)| above `threshold`, or −1. Lanes keep their own first maximum;
-  * equal maxima across lanes go to the smaller k, so the result is the scalar loop's. */
-int updateAndPickAvx2(const double* alpha0, const double* const* columns, const double* gamma, int size, int num_atoms,
-                      const double* weight, double threshold, double* alpha)
-{
-  const __m256d sign = _mm256_set1_pd(-0.0);
-  __m256d best_value = _mm256_set1_pd(threshold);
-  __m256d best_index = _mm256_set1_pd(-1.0);
-  __m256d index = _mm256_setr_pd(0.0, 1.0, 2.0, 3.0);
-  const __m256d four = _mm256_set1_pd(4.0);
-  int k = 0;
-  for (; k + 4 <= num_atoms; k += 4) {
-    __m256d a = _mm256_loadu_pd(alpha0 + k);
-    for (int i = 0; i < size; ++i)
-      a = _mm256_fnmadd_pd(_mm256_set1_pd(gamma[i]), _mm256_loadu_pd(columns[i] + k), a);
-    _mm256_storeu_pd(alpha + k, a);
-    const __m256d value = _mm256_mul_pd(_mm256_andnot_pd(sign, a), _mm256_loadu_pd(weight + k));
-    const __m256d better = _mm256_cmp_pd(value, best_value, _CMP_GT_OQ);
-    best_value = _mm256_blendv_pd(best_value, value, better);
-    best_index = _mm256_blendv_pd(best_index, index, better);
-    index = _mm256_add_pd(index, four);
+namespace {
+
+/** Per lane the first largest weight·|α| so far, and its atom. */
+struct LaneMaxima {
+  __m256d value, index;
+  inline void offer(__m256d a, const double* weight, int k)
+  {
+    const __m256d v = _mm256_mul_pd(_mm256_andnot_pd(_mm256_set1_pd(-0.0), a), _mm256_loadu_pd(weight + k));
+    const __m256d better = _mm256_cmp_pd(v, value, _CMP_GT_OQ);
+    value = _mm256_blendv_pd(value, v, better);
+    index = _mm256_blendv_pd(index, _mm256_add_pd(_mm256_set1_pd(static_cast<double>(k)),
+                                                  _mm256_setr_pd(0.0, 1.0, 2.0, 3.0)), better);
   }
-  double values[4], indices[4];
-  _mm256_storeu_pd(values, best_value);
-  _mm256_storeu_pd(indices, best_index);
-  double top = threshold;
-  int best = -1;
-  for (int lane = 0; lane < 4; ++lane) {
-    const int at = static_cast<int>(indices[lane]);
-    if (at >= 0 && (values[lane] > top || (values[lane] == top && best >= 0 && at < best))) {
-      top = values[lane];
-      best = at;
+  /** The first largest over the lanes: equal maxima go to the smaller atom. */
+  int first(double threshold, double& top) const
+  {
+    double values[4], indices[4];
+    _mm256_storeu_pd(values, value);
+    _mm256_storeu_pd(indices, index);
+    top = threshold;
+    int best = -1;
+    for (int lane = 0; lane < 4; ++lane) {
+      const int at = static_cast<int>(indices[lane]);
+      if (at >= 0 && (values[lane] > top || (values[lane] == top && (best < 0 || at < best)))) {
+        top = values[lane];
+        best = at;
+      }
+    }
+    return best;
+  }
+};
+
+}  // namespace
+
+/** The first k of the largest weight(k)·|alpha(k)| above `threshold`, or −1. */
+int pickLargestAvx2(const double* alpha, const double* weight, int num_atoms, double threshold)
+{
+  LaneMaxima maxima{_mm256_set1_pd(threshold), _mm256_set1_pd(-1.0)};
+  int k = 0;
+  for (; k + 4 <= num_atoms; k += 4)
+    maxima.offer(_mm256_loadu_pd(alpha + k), weight, k);
+  double top;
+  int best = maxima.first(threshold, top);
+  for (; k < num_atoms; ++k) {
+    const double value = (alpha[k] < 0 ? -alpha[k] : alpha[k]) * weight[k];
+    if (value > top) {
+      top = value;
+      best = k;
     }
   }
-  for (; k < num_atoms; ++k) {
-    double a = alpha0[k];
+  return best;
+}
+
+/** u(k) = (g(k) − Σ_i l(i)·basis(k, i)) · scale (i in order, by FMA), alpha(k) −= z·u(k) (FMA),
+  * then the first k of the largest weight(k)·|alpha(k)| above `threshold`, or −1. Lanes keep
+  * their own first maximum; equal maxima across lanes go to the smaller k. */
+int projectUpdateAndPickAvx2(const double* g, const double* basis, std::ptrdiff_t stride, const double* l, int size,
+                             double scale, double z, int num_atoms, const double* weight, double threshold, double* u,
+                             double* alpha)
+{
+  LaneMaxima maxima{_mm256_set1_pd(threshold), _mm256_set1_pd(-1.0)};
+  const __m256d scale_v = _mm256_set1_pd(scale), z_v = _mm256_set1_pd(z);
+  int k = 0;
+  for (; k + 4 <= num_atoms; k += 4) {
+    __m256d v = _mm256_loadu_pd(g + k);
     for (int i = 0; i < size; ++i)
-      a = __builtin_fma(-gamma[i], columns[i][k], a);
+      v = _mm256_fnmadd_pd(_mm256_set1_pd(l[i]), _mm256_loadu_pd(basis + i * stride + k), v);
+    v = _mm256_mul_pd(v, scale_v);
+    _mm256_storeu_pd(u + k, v);
+    const __m256d a = _mm256_fnmadd_pd(z_v, v, _mm256_loadu_pd(alpha + k));
+    _mm256_storeu_pd(alpha + k, a);
+    maxima.offer(a, weight, k);
+  }
+  double top;
+  int best = maxima.first(threshold, top);
+  for (; k < num_atoms; ++k) {
+    double v = g[k];
+    for (int i = 0; i < size; ++i)
+      v = __builtin_fma(-l[i], basis[i * stride + k], v);
+    v *= scale;
+    u[k] = v;
+    const double a = __builtin_fma(-z, v, alpha[k]);
     alpha[k] = a;
     const double value = (a < 0 ? -a : a) * weight[k];
     if (value > top) {

@@ -187,54 +187,10 @@ struct LaneMaxima {
   }
 };
 
-/** α for atoms k … k+8B−1 (B registers side by side, so that their FMA chains overlap). */
-template <int B>
-inline void updateBlocks(const double* alpha0, const double* const* columns, const double* gamma, int size, int k,
-                         const double* weight, double* alpha, LaneMaxima* maxima)
+/** The first largest of four lanes' maxima: per lane the larger, on a tie the smaller atom; −1
+  * (nothing above the threshold) never wins. */
+int firstLargest(LaneMaxima* maxima, double threshold)
 {
-  __m512d a[B];
-  for (int b = 0; b < B; ++b)
-    a[b] = _mm512_loadu_pd(alpha0 + k + 8 * b);
-  for (int i = 0; i < size; ++i) {
-    const __m512d g = _mm512_set1_pd(gamma[i]);
-    const double* column = columns[i] + k;
-    for (int b = 0; b < B; ++b)
-      a[b] = _mm512_fnmadd_pd(g, _mm512_loadu_pd(column + 8 * b), a[b]);
-  }
-  for (int b = 0; b < B; ++b) {
-    _mm512_storeu_pd(alpha + k + 8 * b, a[b]);
-    maxima[b].offer(a[b], weight, k + 8 * b, 0xFF);
-  }
-}
-
-}  // namespace
-
-/** updateAndPickAvx2 eight lanes wide: the same FMA chain per atom and the same first maximum.
-  * Four blocks of eight atoms go side by side: one block's chain of `size` FMAs alone would wait on
-  * the FMA latency at every step. */
-int updateAndPickAvx512(const double* alpha0, const double* const* columns, const double* gamma, int size,
-                        int num_atoms, const double* weight, double threshold, double* alpha)
-{
-  LaneMaxima maxima[4];
-  for (LaneMaxima& m : maxima) {
-    m.value = _mm512_set1_pd(threshold);
-    m.index = _mm512_set1_pd(-1.0);
-  }
-  int k = 0;
-  for (; k + 32 <= num_atoms; k += 32)
-    updateBlocks<4>(alpha0, columns, gamma, size, k, weight, alpha, maxima);
-  for (; k + 8 <= num_atoms; k += 8)
-    updateBlocks<1>(alpha0, columns, gamma, size, k, weight, alpha, maxima);
-  if (k < num_atoms) {
-    // The last block loads and stores only its atoms; the others' lanes stay out of the maxima.
-    const __mmask8 live = static_cast<__mmask8>((1u << (num_atoms - k)) - 1u);
-    __m512d a = _mm512_maskz_loadu_pd(live, alpha0 + k);
-    for (int i = 0; i < size; ++i)
-      a = _mm512_fnmadd_pd(_mm512_set1_pd(gamma[i]), _mm512_maskz_loadu_pd(live, columns[i] + k), a);
-    _mm512_mask_storeu_pd(alpha + k, live, a);
-    maxima[1].offer(a, weight, k, live);
-  }
-  // Lane by lane the larger maximum, on a tie the smaller atom (the first maximum); −1 never wins.
   for (int step = 2; step >= 1; step /= 2)
     for (int b = 0; b < step; ++b) {
       LaneMaxima& m = maxima[b];
@@ -259,6 +215,78 @@ int updateAndPickAvx512(const double* alpha0, const double* const* columns, cons
     }
   }
   return best;
+}
+
+void startMaxima(LaneMaxima* maxima, double threshold)
+{
+  for (int b = 0; b < 4; ++b) {
+    maxima[b].value = _mm512_set1_pd(threshold);
+    maxima[b].index = _mm512_set1_pd(-1.0);
+  }
+}
+
+/** The projected step for atoms k … k+8B−1 (B registers side by side, so that their chains of
+  * `size` FMAs overlap), `live` lanes of the last register only. */
+template <int B>
+inline void projectBlocks(const double* g, const double* basis, std::ptrdiff_t stride, const double* l, int size,
+                          __m512d scale, __m512d z, int k, const double* weight, double* u, double* alpha,
+                          LaneMaxima* maxima, __mmask8 live)
+{
+  __m512d v[B];
+  for (int b = 0; b < B; ++b)
+    v[b] = _mm512_maskz_loadu_pd(b == B - 1 ? live : __mmask8(0xFF), g + k + 8 * b);
+  for (int i = 0; i < size; ++i) {
+    const __m512d li = _mm512_set1_pd(l[i]);
+    const double* column = basis + i * stride + k;
+    for (int b = 0; b < B; ++b)
+      v[b] = _mm512_fnmadd_pd(li, _mm512_maskz_loadu_pd(b == B - 1 ? live : __mmask8(0xFF), column + 8 * b), v[b]);
+  }
+  for (int b = 0; b < B; ++b) {
+    const __mmask8 m = b == B - 1 ? live : __mmask8(0xFF);
+    v[b] = _mm512_mul_pd(v[b], scale);
+    _mm512_mask_storeu_pd(u + k + 8 * b, m, v[b]);
+    const __m512d a = _mm512_fnmadd_pd(z, v[b], _mm512_maskz_loadu_pd(m, alpha + k + 8 * b));
+    _mm512_mask_storeu_pd(alpha + k + 8 * b, m, a);
+    maxima[b].offer(a, weight, k + 8 * b, m);
+  }
+}
+
+}  // namespace
+
+/** pickLargest eight lanes wide. */
+int pickLargestAvx512(const double* alpha, const double* weight, int num_atoms, double threshold)
+{
+  LaneMaxima maxima[4];
+  startMaxima(maxima, threshold);
+  int k = 0;
+  for (; k + 32 <= num_atoms; k += 32)
+    for (int b = 0; b < 4; ++b)
+      maxima[b].offer(_mm512_loadu_pd(alpha + k + 8 * b), weight, k + 8 * b, 0xFF);
+  for (; k < num_atoms; k += 8) {
+    const __mmask8 live = num_atoms - k >= 8 ? __mmask8(0xFF) : static_cast<__mmask8>((1u << (num_atoms - k)) - 1u);
+    maxima[1].offer(_mm512_maskz_loadu_pd(live, alpha + k), weight, k, live);
+  }
+  return firstLargest(maxima, threshold);
+}
+
+/** projectUpdateAndPickAvx2 eight lanes wide: the same FMA chain per atom, the same first maximum.
+  * Four registers of atoms go side by side: one register's chain of `size` FMAs alone would wait
+  * on the FMA latency at every step. */
+int projectUpdateAndPickAvx512(const double* g, const double* basis, std::ptrdiff_t stride, const double* l, int size,
+                               double scale, double z, int num_atoms, const double* weight, double threshold,
+                               double* u, double* alpha)
+{
+  LaneMaxima maxima[4];
+  startMaxima(maxima, threshold);
+  const __m512d scale_v = _mm512_set1_pd(scale), z_v = _mm512_set1_pd(z);
+  int k = 0;
+  for (; k + 32 <= num_atoms; k += 32)
+    projectBlocks<4>(g, basis, stride, l, size, scale_v, z_v, k, weight, u, alpha, maxima, 0xFF);
+  for (; k < num_atoms; k += 8) {
+    const __mmask8 live = num_atoms - k >= 8 ? __mmask8(0xFF) : static_cast<__mmask8>((1u << (num_atoms - k)) - 1u);
+    projectBlocks<1>(g, basis, stride, l, size, scale_v, z_v, k, weight, u, alpha, maxima + 1, live);
+  }
+  return firstLargest(maxima, threshold);
 }
 
 }  // namespace detail

@@ -1,7 +1,7 @@
 // Batch-OMP after Rubinstein, Zibulevsky & Elad, "Efficient implementation of the K-SVD algorithm
 // using Batch Orthogonal Matching Pursuit", Technion CS-2008-08: the residual is never formed; the
-// correlations are updated through Gram columns and the least-squares fit through a progressive
-// Cholesky factor of G_II. Masked OMP runs the same kernel on the column-normalised observed rows.
+// correlations are updated through Gram columns, made orthogonal over a progressive Cholesky factor
+// of G_II (see ompKernel). Masked OMP runs the same kernel on the column-normalised observed rows.
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/coding/sparse_coding.h>
 
@@ -65,18 +65,20 @@ struct LazyMaskedGram {
 // Buffers of one thread, reused across signals: allocation would otherwise cost as much as the
 // arithmetic for small sparsities.
 struct Workspace {
-  std::vector<double> factor, forward, gamma_flat, w_flat, alpha_flat, weight;
-  std::vector<const double*> columns;
+  std::vector<double> factor, inverse_diagonal, projected, gamma_flat, alpha_flat, weight, basis;
 };
 
-// The Batch-OMP iteration (Rubinstein, Zibulevsky & Elad 2008, Algorithm 5), with error and
+// Batch-OMP (Rubinstein, Zibulevsky & Elad 2008, Algorithm 5) in its projected form, with error and
 // sparsity stopping, over Gram columns from `gram.column(k)` (a precomputed matrix, or masked
-// columns made on demand); `usable` (or null: all) excludes atoms. The Cholesky factor sits in a
-// small row-major array, its forward solve kept from one iteration to the next (adding an atom
-// adds a row), and α = α0 − G_I γ is fused with the next argmax over the chosen atoms' contiguous
-// Gram columns (detail::updateCorrelationsAndPick: AVX2 where available) — no Eigen dispatch or
-// allocation per iteration, which cost more than the arithmetic at S ≤ 20; the last iteration
-// skips the update when nothing reads it.
+// columns made on demand); `usable` (or null: all) excludes atoms. With L the Cholesky factor of
+// G_II, it keeps U = G_I L⁻ᵀ (K × |I|) and z = L⁻¹ α0_I instead of the coefficients:
+//  - the new atom's row of L is its row of U, read off without a triangular solve;
+//  - U's new column is (g − U l) / L_nn and α = α0 − U z shrinks by z_n times it, fused with the
+//    next argmax in one pass (detail::projectUpdateAndPick: AVX-512 or AVX2 where available);
+//  - the squared residual is ‖x‖² − ‖z‖²;
+//  - the coefficients L⁻ᵀ z are solved once, at the end.
+// The per-step triangular solves of the textbook form were chains of dependent divisions, half of
+// the time outside the vector kernels at S = 20. Each column is needed in its own step only.
 template <typename Gram>
 void ompKernel(Gram& gram, const double* alpha0, Eigen::Index num_atoms_in, double signal_squared_norm,
                Eigen::Index entries, const SparseCodingParameters& parameters, const std::vector<char>* usable,
@@ -91,75 +93,58 @@ void ompKernel(Gram& gram, const double* alpha0, Eigen::Index num_atoms_in, doub
   const double budget = std::max(parameters.max_squared_error,
                                  parameters.max_squared_error_per_entry * static_cast<double>(entries));
   const bool error_stop = budget > 0.0;
-  const std::size_t s = static_cast<std::size_t>(max_atoms);
+  const std::size_t s = static_cast<std::size_t>(max_atoms), k_count = static_cast<std::size_t>(num_atoms);
   work.factor.resize(s * s);
-  work.forward.resize(s);
+  work.inverse_diagonal.resize(s);
+  work.projected.resize(s);
   work.gamma_flat.resize(s);
-  work.w_flat.resize(s);
-  work.alpha_flat.resize(static_cast<std::size_t>(num_atoms));
-  work.columns.resize(s);
-  work.weight.resize(static_cast<std::size_t>(num_atoms));
-  for (int k = 0; k < num_atoms; ++k)
-    work.weight[static_cast<std::size_t>(k)] = usable == nullptr || (*usable)[static_cast<std::size_t>(k)] ? 1.0 : 0.0;
+  work.alpha_flat.resize(k_count);
+  work.weight.resize(k_count);
+  work.basis.resize(k_count * s);
+  for (std::size_t k = 0; k < k_count; ++k)
+    work.weight[k] = usable == nullptr || (*usable)[k] ? 1.0 : 0.0;
   double* lower = work.factor.data();  // row i at i·s
-  double* y = work.forward.data();
-  double* gamma = work.gamma_flat.data();
-  double* w = work.w_flat.data();
+  double* inverse = work.inverse_diagonal.data();
+  double* z = work.projected.data();
   double* alpha = work.alpha_flat.data();
   double* weight = work.weight.data();
-  const double** columns = work.columns.data();
-  double residual = signal_squared_norm, delta_previous = 0.0;
+  double* basis = work.basis.data();  // U, column j at j·K
+  std::copy(alpha0, alpha0 + num_atoms, alpha);
+  double residual = signal_squared_norm;
   // Correlations this small are round-off of an already exact fit.
   const double tiny = 1e-12 * std::sqrt(std::max(signal_squared_norm, 1e-300));
   int size = 0;
-  int best = detail::updateCorrelationsAndPick(alpha0, columns, gamma, 0, num_atoms, weight, tiny, alpha);
-  for (int n = 0; n < max_atoms; ++n) {
-    if ((error_stop && residual <= budget) || best < 0)
-      break;
+  int best = detail::pickLargest(alpha, weight, num_atoms, tiny);
+  while (size < max_atoms && best >= 0 && !(error_stop && residual <= budget)) {
+    const int n = size;
     const double* column = gram.column(best);
-    // New row of the factor: L w = G_{I,best}, then the diagonal.
+    double* row = lower + static_cast<std::size_t>(n) * s;
     double diagonal = column[best];
-    for (int i = 0; i < n; ++i) {
-      double sum = column[atoms[static_cast<std::size_t>(i)]];
-      const double* row = lower + static_cast<std::size_t>(i) * s;
-      for (int j = 0; j < i; ++j)
-        sum -= row[j] * w[j];
-      w[i] = sum / row[i];
-      diagonal -= w[i] * w[i];
+    for (int j = 0; j < n; ++j) {
+      row[j] = basis[static_cast<std::size_t>(j) * k_count + static_cast<std::size_t>(best)];
+      diagonal -= row[j] * row[j];
     }
     if (n > 0 && diagonal <= 1e-10)  // the atom is (numerically) in the span of those chosen: stop
       break;
-    double* row = lower + static_cast<std::size_t>(n) * s;
-    for (int j = 0; j < n; ++j)
-      row[j] = w[j];
     row[n] = std::sqrt(diagonal);
+    inverse[n] = 1.0 / row[n];
+    z[n] = alpha[best] * inverse[n];
+    residual -= z[n] * z[n];
     atoms.push_back(best);
     weight[best] = 0.0;
-    columns[n] = column;
     size = n + 1;
-    // L y = α0_I gains one entry; Lᵀ γ = y is solved again.
-    double sum = alpha0[best];
-    for (int j = 0; j < n; ++j)
-      sum -= row[j] * y[j];
-    y[n] = sum / row[n];
-    for (int i = n; i >= 0; --i) {
-      double value = y[i];
-      for (int j = i + 1; j < size; ++j)
-        value -= lower[static_cast<std::size_t>(j) * s + static_cast<std::size_t>(i)] * gamma[j];
-      gamma[i] = value / lower[static_cast<std::size_t>(i) * s + static_cast<std::size_t>(i)];
-    }
-    if (size == max_atoms && !error_stop)
+    if (size == max_atoms || (error_stop && residual <= budget))
       break;  // nobody reads α again
-    best = detail::updateCorrelationsAndPick(alpha0, columns, gamma, size, num_atoms, weight, tiny, alpha);
-    if (error_stop) {
-      double delta = 0.0;  // γᵀ β_I with β = α0 − α
-      for (int i = 0; i < size; ++i) {
-        const int k = atoms[static_cast<std::size_t>(i)];
-        delta += gamma[i] * (alpha0[k] - alpha[k]);
-      }
-      residual = residual - delta + delta_previous;
-      delta_previous = delta;
-    }
+    best = detail::projectUpdateAndPick(column, basis, static_cast<std::ptrdiff_t>(k_count), row, n, inverse[n], z[n],
+                                        num_atoms, weight, tiny, basis + static_cast<std::size_t>(n) * k_count, alpha);
+  }
+  // Lᵀ γ = z.
+  double* gamma = work.gamma_flat.data();
+  for (int i = size - 1; i >= 0; --i) {
+    double value = z[i];
+    for (int j = i + 1; j < size; ++j)
+      value -= lower[static_cast<std::size_t>(j) * s + static_cast<std::size_t>(i)] * gamma[j];
+    gamma[i] = value * inverse[i];
   }
   coefficients.assign(gamma, gamma + size);
 }

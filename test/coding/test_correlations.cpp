@@ -79,53 +79,65 @@ TEST(Correlations, WiderKernelsGiveTheAvx2KernelsBits)
   EXPECT_EQ(compared, 6 * 10 * 7);
 }
 
-// The fused Batch-OMP step: the same α bits and the same pick from every kernel, including ties
-// (the first maximum wins) and excluded atoms, for atom counts that leave every tail length.
-TEST(Correlations, UpdateAndPickAgreesAcrossKernels)
+// The fused Batch-OMP step and the first pick: the same u and α bits and the same pick from every
+// SIMD kernel, the plain loops' to rounding; ties go to the first maximum, excluded atoms are never
+// picked; atom counts leave every tail length.
+TEST(Correlations, ProjectedStepAgreesAcrossKernels)
 {
+  using pcl::patchdict::detail::pickLargest;
+  using pcl::patchdict::detail::projectUpdateAndPick;
   using pcl::patchdict::detail::SimdKernels;
-  using pcl::patchdict::detail::updateCorrelationsAndPick;
   std::vector<SimdKernels> kernels{SimdKernels::Portable};
   if (pcl::patchdict::detail::bestSimdKernels() != SimdKernels::Portable)
     kernels.push_back(SimdKernels::Avx2);
   if (pcl::patchdict::detail::bestSimdKernels() == SimdKernels::Avx512)
     kernels.push_back(SimdKernels::Avx512);
-  for (const int num_atoms : {1, 3, 4, 7, 8, 9, 15, 16, 17, 100, 501})
+  int checked = 0;
+  for (const int num_atoms : {1, 3, 4, 7, 8, 9, 15, 16, 17, 31, 33, 100, 501})
     for (const int size : {0, 1, 3}) {
-      const Eigen::MatrixXd g = gaussianMatrix(num_atoms, 3, 7 + num_atoms);
+      const Eigen::MatrixXd basis = gaussianMatrix(num_atoms, 3, 7 + num_atoms);
+      const Eigen::VectorXd g = gaussianMatrix(num_atoms, 1, 9 + num_atoms).col(0);
       Eigen::VectorXd alpha0 = gaussianMatrix(num_atoms, 1, 8 + num_atoms).col(0);
       // A tie between the last atom and an earlier one, which must lose to the earlier one.
-      if (size == 0 && num_atoms > 2)
+      if (num_atoms > 2)
         alpha0[num_atoms - 1] = -alpha0.cwiseAbs().maxCoeff();
       Eigen::VectorXd weight = Eigen::VectorXd::Ones(num_atoms);
       if (num_atoms > 5)
         weight[num_atoms / 2] = 0.0;
-      const double gamma[3] = {0.5, -1.25, 2.0};
-      const double* columns[3] = {g.col(0).data(), g.col(1).data(), g.col(2).data()};
-      Eigen::VectorXd reference_alpha(num_atoms);
-      int reference = -2;
+      const double l[3] = {0.5, -1.25, 2.0};
+      const double scale = 0.75, z = size == 0 ? 0.0 : -1.5;  // z = 0: α unchanged, the tie stays
+      Eigen::VectorXd reference_alpha, reference_u, simd_alpha, simd_u;
       for (const SimdKernels which : kernels) {
-        Eigen::VectorXd alpha(num_atoms);
-        const int best = updateCorrelationsAndPick(alpha0.data(), columns, gamma, size, num_atoms, weight.data(), 1e-12,
-                                                   alpha.data(), which);
-        if (which == SimdKernels::Portable) {
-          // No FMA here: the index, and α to rounding.
-          reference = best;
-          reference_alpha = alpha;
-          Eigen::Index expected = 0;
-          (alpha.cwiseAbs().cwiseProduct(weight)).maxCoeff(&expected);
-          EXPECT_EQ(best, static_cast<int>(expected)) << num_atoms << " " << size;
-          continue;
+        // The first pick, from α0 itself.
+        Eigen::Index expected = 0;
+        alpha0.cwiseAbs().cwiseProduct(weight).maxCoeff(&expected);  // Eigen's maxCoeff keeps the first
+        ASSERT_EQ(pickLargest(alpha0.data(), weight.data(), num_atoms, 1e-12, which), static_cast<int>(expected))
+            << num_atoms << " kernels " << static_cast<int>(which);
+        Eigen::VectorXd alpha = alpha0, u(num_atoms);
+        const int best = projectUpdateAndPick(g.data(), basis.data(), basis.outerStride(), l, size, scale, z,
+                                              num_atoms, weight.data(), 1e-12, u.data(), alpha.data(), which);
+        // Against the formula, independently of any kernel.
+        Eigen::VectorXd expected_u = g;
+        for (int i = 0; i < size; ++i)
+          expected_u -= l[i] * basis.col(i);
+        expected_u *= scale;
+        const Eigen::VectorXd expected_alpha = alpha0 - z * expected_u;
+        EXPECT_LE((u - expected_u).cwiseAbs().maxCoeff(), 1e-13) << num_atoms << " " << size;
+        EXPECT_LE((alpha - expected_alpha).cwiseAbs().maxCoeff(), 1e-13) << num_atoms << " " << size;
+        expected_alpha.cwiseAbs().cwiseProduct(weight).maxCoeff(&expected);
+        EXPECT_EQ(best, static_cast<int>(expected)) << num_atoms << " " << size << " kernels " << static_cast<int>(which);
+        if (num_atoms > 5) {
+          EXPECT_NE(best, num_atoms / 2);
         }
-        EXPECT_EQ(best, reference) << num_atoms << " " << size << " kernels " << static_cast<int>(which);
-        EXPECT_LE((alpha - reference_alpha).cwiseAbs().maxCoeff(), 1e-14) << num_atoms << " " << size;
-        if (which == SimdKernels::Avx512) {
-          Eigen::VectorXd narrow(num_atoms);
-          updateCorrelationsAndPick(alpha0.data(), columns, gamma, size, num_atoms, weight.data(), 1e-12,
-                                    narrow.data(), SimdKernels::Avx2);
-          EXPECT_EQ(std::memcmp(alpha.data(), narrow.data(), sizeof(double) * static_cast<std::size_t>(num_atoms)), 0)
-              << num_atoms << " " << size;
+        if (which == SimdKernels::Avx2) {
+          simd_alpha = alpha;
+          simd_u = u;
+        } else if (which == SimdKernels::Avx512) {
+          EXPECT_EQ(std::memcmp(alpha.data(), simd_alpha.data(), sizeof(double) * static_cast<std::size_t>(num_atoms)), 0);
+          EXPECT_EQ(std::memcmp(u.data(), simd_u.data(), sizeof(double) * static_cast<std::size_t>(num_atoms)), 0);
         }
+        ++checked;
       }
     }
+  EXPECT_EQ(checked, 13 * 3 * static_cast<int>(kernels.size()));
 }
