@@ -15,6 +15,10 @@ namespace detail {
 void correlationsAvx2(const double* atoms, std::ptrdiff_t atom_stride, std::ptrdiff_t n, std::ptrdiff_t num_atoms,
                       const double* signals, std::ptrdiff_t signal_stride, std::ptrdiff_t num_signals, double* out,
                       std::ptrdiff_t out_stride);
+void subtractCombinationAvx2(const double* g, const double* const* columns, const double* c, int count, int num_atoms,
+                             double* out);
+void subtractCombinationAvx512(const double* g, const double* const* columns, const double* c, int count,
+                               int num_atoms, double* out);
 int pickLargestAvx2(const double* alpha, const double* weight, int num_atoms, double threshold);
 int projectUpdateAndPickAvx2(const double* g, const double* basis, std::ptrdiff_t stride, const double* l, int size,
                              double scale, double z, int num_atoms, const double* weight, double threshold, double* u,
@@ -126,6 +130,32 @@ int projectUpdateAndPick(const double* g, const double* basis, std::ptrdiff_t st
     }
   }
   return best;
+}
+
+void subtractCombination(const double* g, const double* const* columns, const double* c, int count, int num_atoms,
+                         double* out)
+{
+  subtractCombination(g, columns, c, count, num_atoms, out, bestSimdKernels());
+}
+
+void subtractCombination(const double* g, const double* const* columns, const double* c, int count, int num_atoms,
+                         double* out, SimdKernels kernels)
+{
+#if defined(__x86_64__)
+  switch (checked(kernels)) {
+    case SimdKernels::Avx512: subtractCombinationAvx512(g, columns, c, count, num_atoms, out); return;
+    case SimdKernels::Avx2: subtractCombinationAvx2(g, columns, c, count, num_atoms, out); return;
+    case SimdKernels::Portable: break;
+  }
+#else
+  checked(kernels);
+#endif
+  for (int k = 0; k < num_atoms; ++k) {
+    double v = g == nullptr ? 0.0 : g[k];
+    for (int i = 0; i < count; ++i)
+      v -= c[i] * columns[i][k];
+    out[k] = v;
+  }
 }
 
 void computeCorrelations(const Eigen::MatrixXd& dictionary, const Eigen::Ref<const Eigen::MatrixXd>& signals,

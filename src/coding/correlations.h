@@ -47,6 +47,14 @@ int projectUpdateAndPick(const double* g, const double* basis, std::ptrdiff_t st
                          double scale, double z, int num_atoms, const double* weight, double threshold, double* u,
                          double* alpha, SimdKernels kernels);
 
+/** out(k) = g(k) − Σ_i c(i)·columns[i][k] for k < num_atoms (g null: 0 − …), summed in order i: a
+  * Gram column made from a few rows of the dictionary (masked coding). The same bits from the
+  * AVX-512 and AVX2 + FMA kernels, others from the plain loop. */
+void subtractCombination(const double* g, const double* const* columns, const double* c, int count, int num_atoms,
+                         double* out);
+void subtractCombination(const double* g, const double* const* columns, const double* c, int count, int num_atoms,
+                         double* out, SimdKernels kernels);
+
 /** True when computeCorrelations runs the AVX2 or AVX-512 kernel on this CPU. */
 bool correlationsUseAvx2();
 

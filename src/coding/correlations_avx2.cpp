@@ -176,6 +176,25 @@ int projectUpdateAndPickAvx2(const double* g, const double* basis, std::ptrdiff_
   return best;
 }
 
+/** out(k) = g(k) − Σ_i c(i)·columns[i][k] (i in order, by FMA; g null: from 0). */
+void subtractCombinationAvx2(const double* g, const double* const* columns, const double* c, int count, int num_atoms,
+                             double* out)
+{
+  int k = 0;
+  for (; k + 4 <= num_atoms; k += 4) {
+    __m256d v = g == nullptr ? _mm256_setzero_pd() : _mm256_loadu_pd(g + k);
+    for (int i = 0; i < count; ++i)
+      v = _mm256_fnmadd_pd(_mm256_set1_pd(c[i]), _mm256_loadu_pd(columns[i] + k), v);
+    _mm256_storeu_pd(out + k, v);
+  }
+  for (; k < num_atoms; ++k) {
+    double v = g == nullptr ? 0.0 : g[k];
+    for (int i = 0; i < count; ++i)
+      v = __builtin_fma(-c[i], columns[i][k], v);
+    out[k] = v;
+  }
+}
+
 }  // namespace detail
 }  // namespace patchdict
 }  // namespace pcl

@@ -289,6 +289,30 @@ int projectUpdateAndPickAvx512(const double* g, const double* basis, std::ptrdif
   return firstLargest(maxima, threshold);
 }
 
+/** subtractCombination eight lanes wide, four registers side by side; the same FMA chain per
+  * entry as the AVX2 kernel. */
+void subtractCombinationAvx512(const double* g, const double* const* columns, const double* c, int count,
+                               int num_atoms, double* out)
+{
+  for (int k = 0; k < num_atoms; k += 32) {
+    __mmask8 live[4];
+    for (int b = 0; b < 4; ++b) {
+      const int left = num_atoms - k - 8 * b;
+      live[b] = left >= 8 ? __mmask8(0xFF) : left <= 0 ? __mmask8(0) : static_cast<__mmask8>((1u << left) - 1u);
+    }
+    __m512d v[4];
+    for (int b = 0; b < 4; ++b)
+      v[b] = g == nullptr ? _mm512_setzero_pd() : _mm512_maskz_loadu_pd(live[b], g + k + 8 * b);
+    for (int i = 0; i < count; ++i) {
+      const __m512d ci = _mm512_set1_pd(c[i]);
+      for (int b = 0; b < 4; ++b)
+        v[b] = _mm512_fnmadd_pd(ci, _mm512_maskz_loadu_pd(live[b], columns[i] + k + 8 * b), v[b]);
+    }
+    for (int b = 0; b < 4; ++b)
+      _mm512_mask_storeu_pd(out + k + 8 * b, live[b], v[b]);
+  }
+}
+
 }  // namespace detail
 }  // namespace patchdict
 }  // namespace pcl

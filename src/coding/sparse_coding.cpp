@@ -27,38 +27,28 @@ struct FullGram {
 
 // Masked Gram columns computed only when an atom is chosen — for a signal whose mask nobody else
 // shares this costs S·n·K at most, where the whole masked Gram matrix would cost n·K². Column k of
-// the normalised masked Gram is s ⊙ Dᵀ(m ⊙ d_k) · s_k (s: inverse masked atom norms); with few
-// hidden rows U it is cheaper as s ⊙ (G_k − Σ_{r∈U} D_rk · D_r,:ᵀ) · s_k.
+// the normalised masked Gram is s ⊙ Dᵀ(m ⊙ d_k) · s_k (s: inverse masked atom norms): the sum over
+// the observed rows r of D_rk · D_r,:ᵀ, or, with fewer hidden rows, G_k minus the sum over those
+// (detail::subtractCombination, AVX-512 or AVX2 where available).
 struct LazyMaskedGram {
-  const Eigen::MatrixXd& dictionary;    // n × K
-  const Eigen::MatrixXd& dictionary_t;  // K × n
-  const Eigen::MatrixXd& gram;          // DᵀD of the full dictionary
-  const std::vector<Eigen::Index>& hidden_rows;
-  const Eigen::VectorXd& observed;      // the mask as 0/1
+  const Eigen::MatrixXd& dictionary;             // n × K
+  const Eigen::MatrixXd& gram;                   // DᵀD of the full dictionary
+  const std::vector<Eigen::Index>& rows;         // the hidden rows (from_gram) or the observed ones
+  const std::vector<const double*>& row_atoms;   // per row of `rows`, that row of D (a column of Dᵀ)
+  bool from_gram;
   const Eigen::VectorXd& inverse_norms;
-  Eigen::MatrixXd cache;                // K × S
-  Eigen::VectorXd masked_atom;
-  int used = 0;
-  LazyMaskedGram(const Eigen::MatrixXd& d, const Eigen::MatrixXd& dt, const Eigen::MatrixXd& g,
-                 const std::vector<Eigen::Index>& hidden, const Eigen::VectorXd& m, const Eigen::VectorXd& s,
-                 int max_atoms)
-      : dictionary(d), dictionary_t(dt), gram(g), hidden_rows(hidden), observed(m), inverse_norms(s),
-        cache(d.cols(), max_atoms)
-  {
-  }
+  Eigen::VectorXd& out;                          // K: the column, read only in its own step (ompKernel)
+  std::vector<double>& weights;                  // scratch: ± D_rk over `rows`
   const double* column(int k)
   {
-    auto out = cache.col(used);
-    if (2 * hidden_rows.size() < static_cast<std::size_t>(dictionary.rows())) {
-      out = gram.col(k);
-      for (const Eigen::Index r : hidden_rows)
-        out -= dictionary(r, k) * dictionary_t.col(r);
-    } else {
-      masked_atom = observed.cwiseProduct(dictionary.col(k));
-      out.noalias() = dictionary_t * masked_atom;
-    }
+    const double* atom = dictionary.col(k).data();
+    weights.resize(rows.size());
+    for (std::size_t j = 0; j < rows.size(); ++j)
+      weights[j] = from_gram ? atom[rows[j]] : -atom[rows[j]];
+    detail::subtractCombination(from_gram ? gram.col(k).data() : nullptr, row_atoms.data(), weights.data(),
+                                static_cast<int>(rows.size()), static_cast<int>(out.size()), out.data());
     out = out.cwiseProduct(inverse_norms) * inverse_norms[k];
-    return cache.col(used++).data();
+    return out.data();
   }
 };
 
@@ -357,7 +347,7 @@ void codeSharedMasks(const Eigen::MatrixXd& dictionary_t, const Eigen::MatrixXd&
   * by the blocked correlation kernel, then Gram columns on demand. */
 void codeSingleMasks(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& dictionary_t,
                      const Eigen::MatrixXd& signals, const Mask& mask, const std::vector<Eigen::Index>& singles,
-                     const SparseCodingParameters& parameters, int max_atoms, CodeLists& codes)
+                     const SparseCodingParameters& parameters, CodeLists& codes)
 {
   const Eigen::Index num_atoms = dictionary.cols(), n = dictionary.rows();
   const Eigen::MatrixXd squared = dictionary.cwiseAbs2();
@@ -378,9 +368,11 @@ void codeSingleMasks(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& d
 #pragma omp parallel
     {
       Workspace work;
-      Eigen::VectorXd inverse(num_atoms), observed, alpha0;
+      Eigen::VectorXd inverse(num_atoms), alpha0, gram_column(num_atoms);
       std::vector<char> usable(static_cast<std::size_t>(num_atoms));
-      std::vector<Eigen::Index> hidden;
+      std::vector<Eigen::Index> hidden, observed;
+      std::vector<const double*> row_atoms;
+      std::vector<double> weights;
       std::vector<int> chosen;
       std::vector<double> values;
 #pragma omp for schedule(dynamic, 16)
@@ -391,13 +383,17 @@ void codeSingleMasks(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& d
           usable[static_cast<std::size_t>(k)] = norm > 1e-8;
           inverse[k] = norm > 1e-8 ? 1.0 / norm : 0.0;
         }
-        observed = block_masks.col(i);
         hidden.clear();
+        observed.clear();
         for (Eigen::Index r = 0; r < n; ++r)
-          if (observed[r] == 0.0)
-            hidden.push_back(r);
+          (block_masks(r, i) == 0.0 ? hidden : observed).push_back(r);
+        const bool from_gram = 2 * hidden.size() < static_cast<std::size_t>(n);
+        const std::vector<Eigen::Index>& rows = from_gram ? hidden : observed;
+        row_atoms.clear();
+        for (const Eigen::Index r : rows)
+          row_atoms.push_back(dictionary_t.col(r).data());
         alpha0 = correlations.col(i).cwiseProduct(inverse);
-        LazyMaskedGram access(dictionary, dictionary_t, full_gram, hidden, observed, inverse, std::max(1, max_atoms));
+        LazyMaskedGram access{dictionary, full_gram, rows, row_atoms, from_gram, inverse, gram_column, weights};
         ompKernel(access, alpha0.data(), num_atoms, block_signals.col(i).squaredNorm(),
                   n - static_cast<Eigen::Index>(hidden.size()),
                   parameters, &usable, work, chosen, values);
@@ -429,7 +425,7 @@ SparseCodes maskedOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& 
   const auto shared_gram_threshold = static_cast<std::size_t>(std::max<Eigen::Index>(2, num_atoms / std::max(1, max_atoms)));
   groupByMask(mask, shared_gram_threshold, groups, shared_groups, singles);
   codeSharedMasks(dictionary_t, signals, mask, shared_groups, parameters, codes);
-  codeSingleMasks(dictionary, dictionary_t, signals, mask, singles, parameters, max_atoms, codes);
+  codeSingleMasks(dictionary, dictionary_t, signals, mask, singles, parameters, codes);
   return codes.assemble(num_atoms);
 }
 

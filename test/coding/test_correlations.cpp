@@ -141,3 +141,39 @@ TEST(Correlations, ProjectedStepAgreesAcrossKernels)
     }
   EXPECT_EQ(checked, 13 * 3 * static_cast<int>(kernels.size()));
 }
+
+// A masked Gram column from a few rows: the formula to rounding from every kernel, the same bits from
+// the AVX2 and AVX-512 kernels, for lengths that leave every tail, with and without a start column.
+TEST(Correlations, SubtractCombinationAgreesAcrossKernels)
+{
+  using pcl::patchdict::detail::SimdKernels;
+  using pcl::patchdict::detail::subtractCombination;
+  std::vector<SimdKernels> kernels{SimdKernels::Portable};
+  if (pcl::patchdict::detail::bestSimdKernels() != SimdKernels::Portable)
+    kernels.push_back(SimdKernels::Avx2);
+  if (pcl::patchdict::detail::bestSimdKernels() == SimdKernels::Avx512)
+    kernels.push_back(SimdKernels::Avx512);
+  for (const int num_atoms : {1, 5, 8, 13, 31, 32, 33, 100})
+    for (const int count : {0, 1, 7})
+      for (const bool start : {false, true}) {
+        const Eigen::MatrixXd rows = gaussianMatrix(num_atoms, 7, 11 + num_atoms);
+        const Eigen::VectorXd g = gaussianMatrix(num_atoms, 1, 12 + num_atoms).col(0);
+        const Eigen::VectorXd c = gaussianMatrix(7, 1, 13).col(0);
+        std::vector<const double*> columns;
+        for (int i = 0; i < 7; ++i)
+          columns.push_back(rows.col(i).data());
+        const Eigen::VectorXd expected =
+            (start ? g : Eigen::VectorXd::Zero(num_atoms)) - rows.leftCols(count) * c.head(count);
+        Eigen::VectorXd avx2;
+        for (const SimdKernels which : kernels) {
+          Eigen::VectorXd out = Eigen::VectorXd::Constant(num_atoms, 99.0);
+          subtractCombination(start ? g.data() : nullptr, columns.data(), c.data(), count, num_atoms, out.data(), which);
+          EXPECT_LE((out - expected).cwiseAbs().maxCoeff(), 1e-13) << num_atoms << " " << count << " " << start;
+          if (which == SimdKernels::Avx2)
+            avx2 = out;
+          if (which == SimdKernels::Avx512) {
+            EXPECT_EQ(std::memcmp(out.data(), avx2.data(), sizeof(double) * static_cast<std::size_t>(num_atoms)), 0);
+          }
+        }
+      }
+}
