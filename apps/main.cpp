@@ -4,6 +4,7 @@
 #include "learn_ranks.h"
 #include "options.h"
 
+#include <pcl_patchdict/coding/sparse_coding.h>
 #include <pcl_patchdict/io/atomic_file.h>
 
 #include <exception>
@@ -69,6 +70,7 @@ int main(int argc, char** argv)
   try {
     if (name == "help")
       return cli::runHelp(args);
+    pcl::patchdict::sparseCodingKernels();  // a bad PCL_PATCHDICT_SIMD: one error line, before any work
     const auto command = subcommands().find(name);
     if (command != subcommands().end())
       return asksForHelp(args) ? cli::runHelp({name}) : command->second(args);

@@ -2,7 +2,11 @@
 // the AVX2 + FMA ones (the same bits), else Eigen's product and plain loops.
 #include "coding/correlations.h"
 
+#include <pcl_patchdict/core/error.h>
+
 #include <cstddef>
+#include <cstdlib>
+#include <string>
 #include <memory>
 #include <vector>
 #include <stdexcept>
@@ -48,7 +52,28 @@ SimdKernels bestSimdKernels()
 #endif
 }
 
-bool correlationsUseAvx2() { return bestSimdKernels() != SimdKernels::Portable; }
+SimdKernels activeSimdKernels()
+{
+  // Read once; an unknown value fails every coding call with the same message.
+  static const SimdKernels active = [] {
+    const SimdKernels best = bestSimdKernels();
+    const char* text = std::getenv("PCL_PATCHDICT_SIMD");
+    if (text == nullptr || *text == '\0')
+      return best;
+    const std::string value(text);
+    const SimdKernels asked = value == "portable" ? SimdKernels::Portable
+                              : value == "avx2"   ? SimdKernels::Avx2
+                              : value == "avx512" ? SimdKernels::Avx512
+                                                  : throw Error("PCL_PATCHDICT_SIMD=" + value +
+                                                                ": expected portable, avx2 or avx512");
+    if (static_cast<int>(asked) > static_cast<int>(best))
+      throw Error("PCL_PATCHDICT_SIMD=" + value + ": this CPU cannot run those kernels");
+    return asked;
+  }();
+  return active;
+}
+
+bool correlationsUseAvx2() { return activeSimdKernels() != SimdKernels::Portable; }
 
 namespace {
 
@@ -63,7 +88,7 @@ SimdKernels checked(SimdKernels kernels)
 
 int pickLargest(const double* alpha, const double* weight, int num_atoms, double threshold)
 {
-  return pickLargest(alpha, weight, num_atoms, threshold, bestSimdKernels());
+  return pickLargest(alpha, weight, num_atoms, threshold, activeSimdKernels());
 }
 
 int pickLargest(const double* alpha, const double* weight, int num_atoms, double threshold, SimdKernels kernels)
@@ -94,7 +119,7 @@ int projectUpdateAndPick(const double* g, const double* basis, std::ptrdiff_t st
                          double* alpha)
 {
   return projectUpdateAndPick(g, basis, stride, l, size, scale, z, num_atoms, weight, threshold, u, alpha,
-                              bestSimdKernels());
+                              activeSimdKernels());
 }
 
 int projectUpdateAndPick(const double* g, const double* basis, std::ptrdiff_t stride, const double* l, int size,
@@ -135,7 +160,7 @@ int projectUpdateAndPick(const double* g, const double* basis, std::ptrdiff_t st
 void subtractCombination(const double* g, const double* const* columns, const double* c, int count, int num_atoms,
                          double* out)
 {
-  subtractCombination(g, columns, c, count, num_atoms, out, bestSimdKernels());
+  subtractCombination(g, columns, c, count, num_atoms, out, activeSimdKernels());
 }
 
 void subtractCombination(const double* g, const double* const* columns, const double* c, int count, int num_atoms,
@@ -161,7 +186,7 @@ void subtractCombination(const double* g, const double* const* columns, const do
 void computeCorrelations(const Eigen::MatrixXd& dictionary, const Eigen::Ref<const Eigen::MatrixXd>& signals,
                          Eigen::MatrixXd& out)
 {
-  computeCorrelations(dictionary, signals, out, bestSimdKernels());
+  computeCorrelations(dictionary, signals, out, activeSimdKernels());
 }
 
 void computeCorrelations(const Eigen::MatrixXd& dictionary, const Eigen::Ref<const Eigen::MatrixXd>& signals,

@@ -18,6 +18,12 @@ enum class SimdKernels { Portable = 0, Avx2 = 1, Avx512 = 2 };
 /** The widest kernels this CPU (and its operating system) can run. */
 SimdKernels bestSimdKernels();
 
+/** The kernels the calls without a SimdKernels argument run: bestSimdKernels(), or narrower when
+  * the environment variable PCL_PATCHDICT_SIMD says so (portable, avx2 or avx512; read once) —
+  * e.g. portable on an AVX2 machine reproduces the bits of a machine without AVX2. An unknown or
+  * unavailable value: Error. */
+SimdKernels activeSimdKernels();
+
 /** out = dictionaryᵀ · signals (K × P). With the AVX2 kernel every entry is one dot product summed
   * in a fixed order (four lanes over the rows, then the lanes pairwise, then the leftover rows),
   * whatever the blocking or the batch it is in; Eigen's product gives the same bits for the same

@@ -141,6 +141,7 @@ void ompKernel(Gram& gram, const double* alpha0, Eigen::Index num_atoms_in, doub
 
 void checkParameters(const SparseCodingParameters& parameters)
 {
+  detail::activeSimdKernels();  // a bad PCL_PATCHDICT_SIMD fails here, not inside a parallel loop
   if (parameters.max_atoms < 0)
     throw Error("sparse coding: the number of atoms per signal must not be negative");
   if (!(parameters.max_squared_error >= 0.0) || !(parameters.max_squared_error_per_entry >= 0.0))
@@ -187,6 +188,16 @@ struct CodeLists {
 };
 
 }  // namespace
+
+std::string sparseCodingKernels()
+{
+  switch (detail::activeSimdKernels()) {
+    case detail::SimdKernels::Avx512: return "avx512";
+    case detail::SimdKernels::Avx2: return "avx2";
+    case detail::SimdKernels::Portable: break;
+  }
+  return "portable";
+}
 
 void batchOMPSingle(const Eigen::MatrixXd& gram, const Eigen::VectorXd& correlations, double signal_squared_norm,
                     const SparseCodingParameters& parameters, std::vector<int>& atoms,

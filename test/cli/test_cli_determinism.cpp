@@ -6,11 +6,15 @@
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/eval/shapes.h>
 
+#include "coding/correlations.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <utility>
+#include <vector>
 
 using namespace pcl::patchdict;
 using test_support::q;
@@ -64,5 +68,44 @@ TEST(CliDeterminism, EveryWritingSubcommandGivesTheSameBytesForAnyThreadCount)
     for (const char* kind : {".pds", ".pdd", ".pdc"})
       if (step.extension == kind && !std::filesystem::exists(dir.file(std::string("ref") + kind)))
         std::filesystem::copy_file(dir.file(std::string("out_1") + kind), dir.file(std::string("ref") + kind));
+  }
+}
+
+// The AVX-512 and the AVX2 kernels give the same bits (tests in test_correlations.cpp); here through
+// the tool, on the commands that code: learning (K-SVD with its masked coding), masked coding of a
+// repair, and compression. PCL_PATCHDICT_SIMD picks the kernels; a wrong value is one error line.
+TEST(CliDeterminism, TheAvx2AndAvx512KernelsWriteTheSameBytes)
+{
+  using pcl::patchdict::detail::SimdKernels;
+  test_support::TempDir dir;
+  const TriangleMesh truth = makeSinusoidalRelief(40, 40, 0.04, 0.25);
+  writeMesh(dir.file("truth.ply"), truth);
+  writeMesh(dir.file("holed.ply"), punchHoles(truth, 3, 0.12, 5).mesh);
+  const auto bad = test_support::runToolWith("env PCL_PATCHDICT_SIMD=sse9", "learn " + q(dir.file("truth.ply")) +
+                                                                                " --atoms 16 --iterations 2 -o " +
+                                                                                q(dir.file("bad.pdd")));
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("PCL_PATCHDICT_SIMD=sse9: expected portable, avx2 or avx512"), std::string::npos) << bad.err;
+  EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("bad.pdd")));
+  if (pcl::patchdict::detail::bestSimdKernels() != SimdKernels::Avx512)
+    GTEST_SKIP() << "this CPU has no AVX-512: nothing to compare the AVX2 kernels with";
+  const std::string t = q(dir.file("truth.ply"));
+  const std::vector<std::pair<std::string, std::string>> steps{
+      {"learn " + t + " --atoms 24 --iterations 5 -o OUT", ".pdd"},
+      {"fill-holes " + q(dir.file("holed.ply")) + " -o OUT", ".ply"},
+      {"compress " + t + " --dict " + q(dir.file("avx512.pdd")) + " --no-eval -o OUT", ".pdc"},
+  };
+  for (const auto& [arguments_template, extension] : steps) {
+    std::string outputs[2];
+    for (const std::string kernels : {"avx512", "avx2"}) {
+      std::string arguments = arguments_template;
+      arguments.replace(arguments.find("OUT"), 3, q(dir.file(kernels + extension)));
+      const auto result = test_support::runToolWith("env PCL_PATCHDICT_SIMD=" + kernels, arguments + " --quiet");
+      ASSERT_EQ(result.exit_code, 0) << arguments << "\n" << result.err;
+      outputs[kernels == "avx2"] = test_support::readFile(dir.file(kernels + extension));
+      ASSERT_FALSE(outputs[kernels == "avx2"].empty());
+    }
+    EXPECT_TRUE(outputs[0] == outputs[1]) << arguments_template;
   }
 }

@@ -6,6 +6,7 @@
 #include <Eigen/SparseCore>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace pcl {
@@ -36,6 +37,13 @@ SparseCodes batchOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& g
 SparseCodes maskedOMP(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& signals,
                       const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>& mask,
                       const SparseCodingParameters& parameters);
+
+/** The SIMD kernels sparse coding runs here: "avx512", "avx2" (the same bits as "avx512") or
+  * "portable" (no FMA: other bits). The widest the CPU has, unless the environment variable
+  * PCL_PATCHDICT_SIMD (portable, avx2 or avx512; read once) narrows them — to reproduce another
+  * machine's bits, say. Throws Error for a value that is unknown or more than the CPU has; every
+  * coding call checks it before its parallel loops. */
+std::string sparseCodingKernels();
 
 /** Single-signal Batch-OMP on Dᵀx = correlations, xᵀx = signal_squared_norm. Appends the chosen
   * atoms and their coefficients; max_squared_error_per_entry does not apply (the signal's length
