@@ -187,34 +187,20 @@ struct LaneMaxima {
   }
 };
 
-/** The first largest of four lanes' maxima: per lane the larger, on a tie the smaller atom; −1
-  * (nothing above the threshold) never wins. */
-int firstLargest(LaneMaxima* maxima, double threshold)
+/** The first largest of four registers' lane maxima, or −1 when none rose above the threshold (the
+  * value the lanes start from): the largest value, then the smallest atom holding it. */
+int firstLargest(const LaneMaxima* maxima, double threshold)
 {
-  for (int step = 2; step >= 1; step /= 2)
-    for (int b = 0; b < step; ++b) {
-      LaneMaxima& m = maxima[b];
-      const LaneMaxima& other = maxima[b + step];
-      const __mmask8 take = _mm512_cmp_pd_mask(other.value, m.value, _CMP_GT_OQ) |
-                            (_mm512_cmp_pd_mask(other.value, m.value, _CMP_EQ_OQ) &
-                             _mm512_cmp_pd_mask(other.index, m.index, _CMP_LT_OQ) &
-                             _mm512_cmp_pd_mask(other.index, _mm512_setzero_pd(), _CMP_GE_OQ));
-      m.value = _mm512_mask_blend_pd(take, m.value, other.value);
-      m.index = _mm512_mask_blend_pd(take, m.index, other.index);
-    }
-  double values[8], indices[8];
-  _mm512_storeu_pd(values, maxima[0].value);
-  _mm512_storeu_pd(indices, maxima[0].index);
-  double top = threshold;
-  int best = -1;
-  for (int lane = 0; lane < 8; ++lane) {
-    const int at = static_cast<int>(indices[lane]);
-    if (at >= 0 && (values[lane] > top || (values[lane] == top && (best < 0 || at < best)))) {
-      top = values[lane];
-      best = at;
-    }
-  }
-  return best;
+  const double best = _mm512_reduce_max_pd(_mm512_max_pd(_mm512_max_pd(maxima[0].value, maxima[1].value),
+                                                         _mm512_max_pd(maxima[2].value, maxima[3].value)));
+  if (!(best > threshold))
+    return -1;
+  const __m512d target = _mm512_set1_pd(best);
+  __m512d smallest = _mm512_set1_pd(2147483647.0);
+  for (int b = 0; b < 4; ++b)  // a lane at the maximum was raised above the threshold: its index is an atom
+    smallest = _mm512_mask_min_pd(smallest, _mm512_cmp_pd_mask(maxima[b].value, target, _CMP_EQ_OQ), smallest,
+                                  maxima[b].index);
+  return static_cast<int>(_mm512_reduce_min_pd(smallest));
 }
 
 void startMaxima(LaneMaxima* maxima, double threshold)
