@@ -1,4 +1,5 @@
-// The AVX2 + FMA kernel of computeCorrelations, in a file of its own compiled with -mavx2 -mfma.
+// The AVX2 + FMA kernels of computeCorrelations, pickLargest, projectUpdateAndPick and
+// subtractCombination, in a file of its own compiled with -mavx2 -mfma.
 // Nothing here is a template or an inline function of a header (no Eigen, no std::): a weak
 // symbol compiled for AVX2 could otherwise be picked by the linker for the plain-x86-64 callers.
 #include <immintrin.h>
@@ -35,6 +36,8 @@ double dot(const double* a, const double* b, std::ptrdiff_t n)
 }
 
 }  // namespace
+
+double dotAvx2(const double* a, const double* b, std::ptrdiff_t n) { return dot(a, b, n); }
 
 /** out(k, p) = Σ_i atoms(i, k) · signals(i, p), all column-major: atoms n × K (column stride
   * atom_stride), signals n × P (signal_stride), out K × P (out_stride). */

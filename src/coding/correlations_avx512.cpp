@@ -1,5 +1,6 @@
-// The AVX-512 kernels of computeCorrelations and updateCorrelationsAndPick, compiled with
-// -mavx512f: the AVX2 kernels' sums in the same order, so they give the same bits, twice as wide.
+// The AVX-512 kernels of computeCorrelations, pickLargest, projectUpdateAndPick and
+// subtractCombination, compiled with -mavx512f: the AVX2 kernels' sums in the same order, so they
+// give the same bits, twice as wide.
 // As in correlations_avx2.cpp nothing here is a header's template or inline function (no Eigen, no
 // std::); the templates below live in an anonymous namespace, so no other file can link to them.
 // GCC 12's AVX-512 intrinsics pass _mm512_undefined_pd() (deliberately uninitialised) to the
@@ -16,30 +17,11 @@ namespace pcl {
 namespace patchdict {
 namespace detail {
 
+/** One dot product in the AVX2 kernel's order (correlations_avx2.cpp: a function of its own, not
+  * inline, so the same code serves both kernels; every CPU that runs these has AVX2 + FMA). */
+double dotAvx2(const double* a, const double* b, std::ptrdiff_t n);
+
 namespace {
-
-/** Σ of four lanes, pairwise: (l0 + l1) + (l2 + l3), as the AVX2 kernel sums them. */
-double laneSum(__m256d v)
-{
-  const __m128d low = _mm256_castpd256_pd128(v), high = _mm256_extractf128_pd(v, 1);
-  const double l0 = _mm_cvtsd_f64(low), l1 = _mm_cvtsd_f64(_mm_unpackhi_pd(low, low));
-  const double l2 = _mm_cvtsd_f64(high), l3 = _mm_cvtsd_f64(_mm_unpackhi_pd(high, high));
-  return (l0 + l1) + (l2 + l3);
-}
-
-/** One dot product in the AVX2 kernel's order (four lanes by FMA, the lanes pairwise, then the
-  * leftover rows one by one). */
-double dot(const double* a, const double* b, std::ptrdiff_t n)
-{
-  const std::ptrdiff_t body = n & ~std::ptrdiff_t{3};
-  __m256d sum = _mm256_setzero_pd();
-  for (std::ptrdiff_t i = 0; i < body; i += 4)
-    sum = _mm256_fmadd_pd(_mm256_loadu_pd(a + i), _mm256_loadu_pd(b + i), sum);
-  double total = laneSum(sum);
-  for (std::ptrdiff_t i = body; i < n; ++i)
-    total = __builtin_fma(a[i], b[i], total);
-  return total;
-}
 
 /** Two four-row slices in one register: a's rows i … i+3 below, b's above. */
 inline __m512d pairAt(const double* a, const double* b, std::ptrdiff_t i)
@@ -49,7 +31,7 @@ inline __m512d pairAt(const double* a, const double* b, std::ptrdiff_t i)
 
 /** The lane sums of two pair accumulators A = (atoms a, c) and B = (b, d), four lanes each:
   * [a, b, c, d] in the low halves' order of _mm512_shuffle_f64x2 below. Per atom the sum is
-  * (l0 + l1) + (l2 + l3), as laneSum: IEEE addition is commutative, so the bits agree. */
+  * (l0 + l1) + (l2 + l3), as the AVX2 kernel's laneSum: IEEE addition is commutative, so the bits agree. */
 inline __m512d pairSums(__m512d A, __m512d B)
 {
   // Position 2j: A's lanes 2j + (2j+1); position 2j+1: B's.
@@ -132,7 +114,7 @@ void signalBlock(const double* atoms, std::ptrdiff_t atom_stride, std::ptrdiff_t
     block<2, Q>(atoms + k * atom_stride, atom_stride, n, nullptr, x, out + k, out_stride);
   for (; k < num_atoms; ++k)
     for (int s = 0; s < Q; ++s)
-      out[s * out_stride + k] = dot(atoms + k * atom_stride, x[s], n);
+      out[s * out_stride + k] = dotAvx2(atoms + k * atom_stride, x[s], n);
 }
 
 }  // namespace

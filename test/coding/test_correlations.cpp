@@ -15,6 +15,22 @@ using pcl::patchdict::detail::computeCorrelations;
 
 using test_support::gaussianMatrix;
 
+namespace {
+
+/** The kernels this CPU can run, narrowest first. */
+std::vector<pcl::patchdict::detail::SimdKernels> availableKernels()
+{
+  using pcl::patchdict::detail::SimdKernels;
+  std::vector<SimdKernels> kernels{SimdKernels::Portable};
+  if (pcl::patchdict::detail::bestSimdKernels() != SimdKernels::Portable)
+    kernels.push_back(SimdKernels::Avx2);
+  if (pcl::patchdict::detail::bestSimdKernels() == SimdKernels::Avx512)
+    kernels.push_back(SimdKernels::Avx512);
+  return kernels;
+}
+
+}  // namespace
+
 TEST(Correlations, EqualEigensProductForEveryShape)
 {
   RecordProperty("avx2", pcl::patchdict::detail::correlationsUseAvx2() ? "yes" : "no");
@@ -87,11 +103,7 @@ TEST(Correlations, ProjectedStepAgreesAcrossKernels)
   using pcl::patchdict::detail::pickLargest;
   using pcl::patchdict::detail::projectUpdateAndPick;
   using pcl::patchdict::detail::SimdKernels;
-  std::vector<SimdKernels> kernels{SimdKernels::Portable};
-  if (pcl::patchdict::detail::bestSimdKernels() != SimdKernels::Portable)
-    kernels.push_back(SimdKernels::Avx2);
-  if (pcl::patchdict::detail::bestSimdKernels() == SimdKernels::Avx512)
-    kernels.push_back(SimdKernels::Avx512);
+  const std::vector<SimdKernels> kernels = availableKernels();
   int checked = 0;
   for (const int num_atoms : {1, 3, 4, 7, 8, 9, 15, 16, 17, 31, 33, 100, 501})
     for (const int size : {0, 1, 3}) {
@@ -148,11 +160,7 @@ TEST(Correlations, SubtractCombinationAgreesAcrossKernels)
 {
   using pcl::patchdict::detail::SimdKernels;
   using pcl::patchdict::detail::subtractCombination;
-  std::vector<SimdKernels> kernels{SimdKernels::Portable};
-  if (pcl::patchdict::detail::bestSimdKernels() != SimdKernels::Portable)
-    kernels.push_back(SimdKernels::Avx2);
-  if (pcl::patchdict::detail::bestSimdKernels() == SimdKernels::Avx512)
-    kernels.push_back(SimdKernels::Avx512);
+  const std::vector<SimdKernels> kernels = availableKernels();
   for (const int num_atoms : {1, 5, 8, 13, 31, 32, 33, 100})
     for (const int count : {0, 1, 7})
       for (const bool start : {false, true}) {
