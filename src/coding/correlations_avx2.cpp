@@ -150,6 +150,26 @@ int projectUpdateAndPickAvx2(const double* g, const double* basis, std::ptrdiff_
   LaneMaxima maxima{_mm256_set1_pd(threshold), _mm256_set1_pd(-1.0)};
   const __m256d scale_v = _mm256_set1_pd(scale), z_v = _mm256_set1_pd(z);
   int k = 0;
+  // Four registers side by side, so that their chains of `size` FMAs overlap; offered to the
+  // maxima in atom order, so each lane keeps its first maximum.
+  for (; k + 16 <= num_atoms; k += 16) {
+    __m256d v[4];
+    for (int b = 0; b < 4; ++b)
+      v[b] = _mm256_loadu_pd(g + k + 4 * b);
+    for (int i = 0; i < size; ++i) {
+      const __m256d li = _mm256_set1_pd(l[i]);
+      const double* column = basis + i * stride + k;
+      for (int b = 0; b < 4; ++b)
+        v[b] = _mm256_fnmadd_pd(li, _mm256_loadu_pd(column + 4 * b), v[b]);
+    }
+    for (int b = 0; b < 4; ++b) {
+      v[b] = _mm256_mul_pd(v[b], scale_v);
+      _mm256_storeu_pd(u + k + 4 * b, v[b]);
+      const __m256d a = _mm256_fnmadd_pd(z_v, v[b], _mm256_loadu_pd(alpha + k + 4 * b));
+      _mm256_storeu_pd(alpha + k + 4 * b, a);
+      maxima.offer(a, weight, k + 4 * b);
+    }
+  }
   for (; k + 4 <= num_atoms; k += 4) {
     __m256d v = _mm256_loadu_pd(g + k);
     for (int i = 0; i < size; ++i)
