@@ -35,8 +35,8 @@ void computeCorrelations(const Eigen::MatrixXd& dictionary, const Eigen::Ref<con
 void computeCorrelations(const Eigen::MatrixXd& dictionary, const Eigen::Ref<const Eigen::MatrixXd>& signals,
                          Eigen::MatrixXd& out, SimdKernels kernels);
 
-/** The first k of the largest weight(k)·|alpha(k)| above `threshold` (weight 0 excludes an atom),
-  * or −1: Batch-OMP's first choice. */
+/** The first k of the largest weight(k)·|alpha(k)| above `threshold` (≥ 0, so that weight 0
+  * excludes an atom), or −1: Batch-OMP's first choice. */
 int pickLargest(const double* alpha, const double* weight, int num_atoms, double threshold);
 int pickLargest(const double* alpha, const double* weight, int num_atoms, double threshold, SimdKernels kernels);
 

@@ -108,4 +108,10 @@ TEST(CliDeterminism, TheAvx2AndAvx512KernelsWriteTheSameBytes)
     }
     EXPECT_TRUE(outputs[0] == outputs[1]) << arguments_template;
   }
+  // The setting is obeyed: the portable loops (no FMA) round differently.
+  const auto portable = test_support::runToolWith("env PCL_PATCHDICT_SIMD=portable",
+                                                  "learn " + t + " --atoms 24 --iterations 5 --quiet -o " +
+                                                      q(dir.file("portable.pdd")));
+  ASSERT_EQ(portable.exit_code, 0) << portable.err;
+  EXPECT_FALSE(test_support::readFile(dir.file("portable.pdd")) == test_support::readFile(dir.file("avx512.pdd")));
 }

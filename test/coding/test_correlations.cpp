@@ -185,3 +185,42 @@ TEST(Correlations, SubtractCombinationAgreesAcrossKernels)
         }
       }
 }
+
+// Ties decide the support: the first (smallest) atom at the maximum must win, whether the tied
+// atoms share a SIMD lane (k and k + 8, k and k + 4) or not, sit in one register block or two, or
+// one sits in a scalar tail; an excluded atom loses even when it holds the largest value.
+TEST(Correlations, TheFirstMaximumWinsTiesInEveryKernel)
+{
+  using pcl::patchdict::detail::pickLargest;
+  using pcl::patchdict::detail::projectUpdateAndPick;
+  int cases = 0;
+  for (const int num_atoms : {9, 13, 17, 40, 67, 100})
+    for (const int first : {0, 1, 3, 5})
+      for (const int gap : {1, 3, 4, 8, 16, 32, 33}) {
+        const int second = first + gap;
+        if (second >= num_atoms)
+          continue;
+        Eigen::VectorXd alpha0 = 0.5 * gaussianMatrix(num_atoms, 1, 20 + num_atoms).col(0).cwiseMin(1.0).cwiseMax(-1.0);
+        alpha0[first] = 3.0;
+        alpha0[second] = -3.0;  // the same weighted |α|
+        const int excluded = num_atoms - 1;
+        Eigen::VectorXd weight = Eigen::VectorXd::Ones(num_atoms);
+        if (excluded != second && excluded != first) {
+          alpha0[excluded] = 7.0;  // the largest, but excluded
+          weight[excluded] = 0.0;
+        }
+        const Eigen::VectorXd zeros = Eigen::VectorXd::Zero(num_atoms);
+        for (const auto which : availableKernels()) {
+          EXPECT_EQ(pickLargest(alpha0.data(), weight.data(), num_atoms, 1e-12, which), first)
+              << num_atoms << " " << first << " " << second << " kernels " << static_cast<int>(which);
+          // The fused step with z = 0 leaves α as it is and must pick the same atom.
+          Eigen::VectorXd alpha = alpha0, u(num_atoms);
+          EXPECT_EQ(projectUpdateAndPick(zeros.data(), zeros.data(), num_atoms, nullptr, 0, 1.0, 0.0, num_atoms,
+                                         weight.data(), 1e-12, u.data(), alpha.data(), which),
+                    first)
+              << num_atoms << " " << first << " " << second << " kernels " << static_cast<int>(which);
+          ++cases;
+        }
+      }
+  EXPECT_GT(cases, 100);
+}
