@@ -20,10 +20,6 @@
 #include <iostream>
 #include <optional>
 
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
-
 namespace pcl {
 namespace patchdict {
 namespace cli {
@@ -462,14 +458,6 @@ int learnAndReport(const Arguments& args, LearnRun& run, const Ranks& ranks);
 
 int runLearn(const std::vector<std::string>& raw)
 {
-#ifdef __GLIBC__
-  // Streaming allocates and frees the same large blocks every round (batches, statistics, input
-  // patch sets of tens of MB): kept in the heap instead of mapped and unmapped each time, whose page
-  // faults cost a third of the reading (the 11 meshes' .pds on 2 shards, measured once: read 3.0 →
-  // 2.3 s; on 2 ranks the learn stage 5.9 → 4.2 s).
-  mallopt(M_MMAP_THRESHOLD, 256 << 20);
-  mallopt(M_TRIM_THRESHOLD, 512 << 20);
-#endif
   if (Ranks::launchedAsMany() && !Ranks::built())
     throw UsageError("started by an MPI launcher, but this pcl_patchdict was built without MPI (install libopenmpi-dev "
                      "and build again), so each copy would learn alone");

@@ -8,6 +8,9 @@
 #include <pcl_patchdict/io/atomic_file.h>
 
 #include <exception>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <functional>
 #include <iostream>
 #include <map>
@@ -62,6 +65,15 @@ int cli::runHelp(const std::vector<std::string>& args)
 int main(int argc, char** argv)
 {
   pcl::patchdict::removeTemporaryFilesOnInterrupt();
+#ifdef __GLIBC__
+  // The stages allocate and free the same large blocks over and over (learning batches and
+  // statistics, K-SVD's residual every iteration, input patch sets of tens of MB): kept in the heap
+  // instead of mapped and unmapped each time, whose page faults cost a quarter of a self-similar
+  // denoising (the demo's bunny: 4.75 → 3.45 s, peak 137 → 145 MB) and a third of learn's reading
+  // (the 11 meshes' .pds on 2 shards: 3.0 → 2.3 s).
+  mallopt(M_MMAP_THRESHOLD, 256 << 20);
+  mallopt(M_TRIM_THRESHOLD, 512 << 20);
+#endif
   const std::vector<std::string> all(argv + 1, argv + argc);
   if (all.empty() || all[0] == "--help" || all[0] == "-h")
     return cli::runHelp({});
