@@ -1,15 +1,16 @@
-// computeCorrelations and updateCorrelationsAndPick: the AVX-512 kernels where the CPU has them, else
-// the AVX2 + FMA ones (the same bits), else Eigen's product and plain loops.
+// The dispatch of computeCorrelations, pickLargest, projectUpdateAndPick and subtractCombination:
+// the AVX-512 kernels where the CPU has them, else the AVX2 + FMA ones (the same bits), else
+// Eigen's product and plain loops; PCL_PATCHDICT_SIMD may narrow the choice.
 #include "coding/correlations.h"
 
 #include <pcl_patchdict/core/error.h>
 
 #include <cstddef>
 #include <cstdlib>
-#include <string>
 #include <memory>
-#include <vector>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace pcl {
 namespace patchdict {
