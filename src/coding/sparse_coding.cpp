@@ -60,7 +60,7 @@ struct Workspace {
 
 // Batch-OMP (Rubinstein, Zibulevsky & Elad 2008, Algorithm 5) in its projected form, with error and
 // sparsity stopping, over Gram columns from `gram.column(k)` (a precomputed matrix, or masked
-// columns made on demand); `usable` (or null: all) excludes atoms. With L the Cholesky factor of
+// columns made on demand); `usable` (K weights, 1 or 0; null: all 1) excludes atoms. With L the Cholesky factor of
 // G_II, it keeps U = G_I L⁻ᵀ (K × |I|) and z = L⁻¹ α0_I instead of the coefficients:
 //  - the new atom's row of L is its row of U, read off without a triangular solve;
 //  - U's new column is (g − U l) / L_nn and α = α0 − U z shrinks by z_n times it, fused with the
@@ -71,7 +71,7 @@ struct Workspace {
 // the time outside the vector kernels at S = 20. Each column is needed in its own step only.
 template <typename Gram>
 void ompKernel(Gram& gram, const double* alpha0, Eigen::Index num_atoms_in, double signal_squared_norm,
-               Eigen::Index entries, const SparseCodingParameters& parameters, const std::vector<char>* usable,
+               Eigen::Index entries, const SparseCodingParameters& parameters, const double* usable,
                Workspace& work, std::vector<int>& atoms, std::vector<double>& coefficients)
 {
   const int num_atoms = static_cast<int>(num_atoms_in);
@@ -91,8 +91,10 @@ void ompKernel(Gram& gram, const double* alpha0, Eigen::Index num_atoms_in, doub
   work.alpha_flat.resize(k_count);
   work.weight.resize(k_count);
   work.basis.resize(k_count * s);
-  for (std::size_t k = 0; k < k_count; ++k)
-    work.weight[k] = usable == nullptr || (*usable)[k] ? 1.0 : 0.0;
+  if (usable == nullptr)
+    std::fill(work.weight.begin(), work.weight.end(), 1.0);
+  else
+    std::copy(usable, usable + num_atoms, work.weight.begin());
   double* lower = work.factor.data();  // row i at i·s
   double* inverse = work.inverse_diagonal.data();
   double* z = work.projected.data();
@@ -284,8 +286,8 @@ void codeSharedMasks(const Eigen::MatrixXd& dictionary_t, const Eigen::MatrixXd&
   {
     Workspace work;
     Eigen::MatrixXd masked_t, masked_atoms, gram, block, block_correlations;
-    Eigen::VectorXd observed, correlations, norms, inverse(num_atoms);
-    std::vector<char> usable;
+    Eigen::VectorXd norms, inverse(num_atoms);
+    std::vector<double> usable;
     std::vector<int> chosen;
     std::vector<double> values;
 #pragma omp for schedule(dynamic, 1)
@@ -304,51 +306,33 @@ void codeSharedMasks(const Eigen::MatrixXd& dictionary_t, const Eigen::MatrixXd&
       // Column-normalise the masked atoms so that selection compares directions, not the energy
       // each atom happens to keep on the observed rows.
       norms = masked_t.rowwise().norm();
-      usable.assign(static_cast<std::size_t>(num_atoms), 1);
+      usable.resize(static_cast<std::size_t>(num_atoms));
       for (Eigen::Index k = 0; k < num_atoms; ++k) {
-        usable[static_cast<std::size_t>(k)] = norms[k] > 1e-8;
+        usable[static_cast<std::size_t>(k)] = norms[k] > 1e-8 ? 1.0 : 0.0;
         inverse[k] = norms[k] > 1e-8 ? 1.0 / norms[k] : 0.0;
       }
-      if (std::all_of(usable.begin(), usable.end(), [](char u) { return u != 0; })) {
-        // Every atom keeps energy on the observed rows (the usual case: a few bins hidden, or
-        // none): Batch-OMP's fast path on the normalised masked atoms — correlations of the
-        // group's signals by the blocked kernel, the fused steps over the masked Gram matrix.
-        masked_atoms = inverse.asDiagonal() * masked_t;  // K × m, unit rows
-        gram.noalias() = masked_atoms * masked_atoms.transpose();
-        const Eigen::MatrixXd atoms_by_row = masked_atoms.transpose();  // m × K
-        for (std::size_t start = 0; start < list.size(); start += 256) {
-          const std::size_t size = std::min<std::size_t>(256, list.size() - start);
-          block.resize(observed_count, static_cast<Eigen::Index>(size));
-          for (std::size_t j = 0; j < size; ++j)
-            for (Eigen::Index i = 0; i < observed_count; ++i)
-              block(i, static_cast<Eigen::Index>(j)) = signals(rows[static_cast<std::size_t>(i)], list[start + j]);
-          detail::computeCorrelations(atoms_by_row, block, block_correlations);
-          for (std::size_t j = 0; j < size; ++j) {
-            const auto column = static_cast<Eigen::Index>(j);
-            FullGram access{gram};
-            ompKernel(access, block_correlations.col(column).data(), num_atoms, block.col(column).squaredNorm(),
-                      observed_count, parameters, nullptr, work, chosen, values);
-            for (std::size_t i = 0; i < chosen.size(); ++i)  // back to the un-normalised atoms
-              values[i] *= inverse[chosen[i]];
-            codes.set(list[start + j], chosen, values);
-          }
-        }
-        continue;
-      }
-      gram.noalias() = masked_t * masked_t.transpose();
-      gram = inverse.asDiagonal() * gram * inverse.asDiagonal();
-      observed.resize(observed_count);
+      // Batch-OMP on the normalised masked atoms: correlations of the group's signals by the blocked
+      // kernel, the fused steps over the masked Gram matrix. An atom with no energy on the observed
+      // rows is a zero row there (inverse 0) and excluded by `usable`.
+      masked_atoms = inverse.asDiagonal() * masked_t;  // K × m, unit rows (or zero)
+      gram.noalias() = masked_atoms * masked_atoms.transpose();
+      const Eigen::MatrixXd atoms_by_row = masked_atoms.transpose();  // m × K
       FullGram access{gram};
-      for (const Eigen::Index p : list) {
-        for (Eigen::Index i = 0; i < observed_count; ++i)
-          observed[i] = signals(rows[i], p);
-        correlations.noalias() = masked_t * observed;
-        correlations = correlations.cwiseProduct(inverse);
-        ompKernel(access, correlations.data(), num_atoms, observed.squaredNorm(), observed_count, parameters, &usable,
-                  work, chosen, values);
-        for (std::size_t i = 0; i < chosen.size(); ++i)  // back to the un-normalised atoms
-          values[i] *= inverse[chosen[i]];
-        codes.set(p, chosen, values);
+      for (std::size_t start = 0; start < list.size(); start += 256) {
+        const std::size_t size = std::min<std::size_t>(256, list.size() - start);
+        block.resize(observed_count, static_cast<Eigen::Index>(size));
+        for (std::size_t j = 0; j < size; ++j)
+          for (Eigen::Index i = 0; i < observed_count; ++i)
+            block(i, static_cast<Eigen::Index>(j)) = signals(rows[static_cast<std::size_t>(i)], list[start + j]);
+        detail::computeCorrelations(atoms_by_row, block, block_correlations);
+        for (std::size_t j = 0; j < size; ++j) {
+          const auto column = static_cast<Eigen::Index>(j);
+          ompKernel(access, block_correlations.col(column).data(), num_atoms, block.col(column).squaredNorm(),
+                    observed_count, parameters, usable.data(), work, chosen, values);
+          for (std::size_t i = 0; i < chosen.size(); ++i)  // back to the un-normalised atoms
+            values[i] *= inverse[chosen[i]];
+          codes.set(list[start + j], chosen, values);
+        }
       }
     }
   }
@@ -380,7 +364,7 @@ void codeSingleMasks(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& d
     {
       Workspace work;
       Eigen::VectorXd inverse(num_atoms), alpha0, gram_column(num_atoms);
-      std::vector<char> usable(static_cast<std::size_t>(num_atoms));
+      std::vector<double> usable(static_cast<std::size_t>(num_atoms));
       std::vector<Eigen::Index> hidden, observed;
       std::vector<const double*> row_atoms;
       std::vector<double> weights;
@@ -391,7 +375,7 @@ void codeSingleMasks(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& d
         const Eigen::Index p = singles[start + static_cast<std::size_t>(i)];
         for (Eigen::Index k = 0; k < num_atoms; ++k) {
           const double norm = std::sqrt(std::max(squared_norms(k, i), 0.0));
-          usable[static_cast<std::size_t>(k)] = norm > 1e-8;
+          usable[static_cast<std::size_t>(k)] = norm > 1e-8 ? 1.0 : 0.0;
           inverse[k] = norm > 1e-8 ? 1.0 / norm : 0.0;
         }
         hidden.clear();
@@ -407,7 +391,7 @@ void codeSingleMasks(const Eigen::MatrixXd& dictionary, const Eigen::MatrixXd& d
         LazyMaskedGram access{dictionary, full_gram, rows, row_atoms, from_gram, inverse, gram_column, weights};
         ompKernel(access, alpha0.data(), num_atoms, block_signals.col(i).squaredNorm(),
                   n - static_cast<Eigen::Index>(hidden.size()),
-                  parameters, &usable, work, chosen, values);
+                  parameters, usable.data(), work, chosen, values);
         for (std::size_t j = 0; j < chosen.size(); ++j)
           values[j] *= inverse[chosen[j]];
         codes.set(p, chosen, values);

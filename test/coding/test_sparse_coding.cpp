@@ -168,9 +168,10 @@ TEST(SparseCoding, MaskedOMPFillsMaskedEntries)
 
 TEST(SparseCoding, SharedAndPerSignalMasksGiveTheSameCodes)
 {
-  // The shared-Gram path (many signals, one mask) and the lazy path (one signal) agree.
+  // The shared-Gram path (many signals, one mask) and the lazy path (one signal) agree, also when
+  // some atoms have no energy on the observed rows (they must never be chosen).
   std::mt19937_64 rng(8);
-  const Eigen::MatrixXd dictionary = randomDictionary(64, 30, rng);
+  Eigen::MatrixXd dictionary = randomDictionary(64, 30, rng);
   std::normal_distribution<double> gaussian;
   Eigen::MatrixXd signals(64, 40);
   for (Eigen::Index i = 0; i < signals.size(); ++i)
@@ -181,10 +182,22 @@ TEST(SparseCoding, SharedAndPerSignalMasksGiveTheSameCodes)
     const bool value = !hidden(rng);
     mask.row(r).setConstant(value);
   }
-  const SparseCodes together = maskedOMP(dictionary, signals, mask, {6, 0.0});
-  for (Eigen::Index p = 0; p < 40; p += 7) {
-    const SparseCodes alone = maskedOMP(dictionary, signals.col(p), mask.col(p), {6, 0.0});
-    EXPECT_NEAR((Eigen::MatrixXd(together.col(p)) - Eigen::MatrixXd(alone)).norm(), 0.0, 1e-9);
+  for (const bool blind_atoms : {false, true}) {
+    if (blind_atoms)  // atoms 0 … 4 live on the hidden rows only
+      for (Eigen::Index k = 0; k < 5; ++k) {
+        for (Eigen::Index r = 0; r < 64; ++r)
+          dictionary(r, k) = mask(r, 0) ? 0.0 : gaussian(rng);
+        dictionary.col(k).normalize();
+      }
+    const SparseCodes together = maskedOMP(dictionary, signals, mask, {6, 0.0});
+    for (Eigen::Index p = 0; p < 40; p += 7) {
+      const SparseCodes alone = maskedOMP(dictionary, signals.col(p), mask.col(p), {6, 0.0});
+      EXPECT_NEAR((Eigen::MatrixXd(together.col(p)) - Eigen::MatrixXd(alone)).norm(), 0.0, 1e-9) << blind_atoms;
+      EXPECT_EQ(together.col(p).nonZeros(), 6) << blind_atoms;
+    }
+    if (blind_atoms) {
+      EXPECT_EQ(Eigen::MatrixXd(together).topRows(5).cwiseAbs().maxCoeff(), 0.0);
+    }
   }
 }
 
