@@ -231,34 +231,17 @@ TEST(Cli, DemoRepairsTheBundledMeshWithAndWithoutPatches)
 
 TEST(Cli, LearnFromPatchFiles)
 {
-  // Two patch sets of one shape family (a sinusoidal relief sampled at random places) → one
-  // dictionary whose atoms reproduce the training patches well.
+  // Two patch sets of one shape family (test_support::writePatchSet: a sinusoidal relief with a
+  // slope, some bins unobserved) → one dictionary whose atoms reproduce the training patches well.
   test_support::TempDir dir;
-  std::mt19937_64 rng(4);
-  std::normal_distribution<double> gaussian;
-  for (const char* name : {"a.pds", "b.pds"}) {
-    PatchSet set;
-    set.grid_size = 8;
-    set.radius = 0.1;
-    const int count = 300;
-    set.heights.resize(64, count);
-    set.observed = ObservationMask::Constant(64, count, true);
-    for (int p = 0; p < count; ++p) {
-      set.seeds.emplace_back(gaussian(rng), gaussian(rng), 0.0);
-      set.rotations.push_back(Eigen::Matrix3d::Identity());
-      set.source.push_back(0);
-      const double phase = gaussian(rng);
-      for (int b = 0; b < 64; ++b)
-        set.heights(b, p) = std::sin(phase + 0.7 * (b % 8)) + 0.3 * std::cos(phase * 2.0 + 0.5 * (b / 8));
-    }
-    set.save(dir.file(name));
-  }
+  test_support::writePatchSet(dir.file("a.pds"), 4);
+  test_support::writePatchSet(dir.file("b.pds"), 5);
   auto result = runTool("learn " + q(dir.file("a.pds")) + " " + q(dir.file("b.pds")) + " -o " + q(dir.file("d.pdd")) +
                         " --method ksvd --atoms 12 --sparsity 4 --iterations 10 --png " + q(dir.file("atoms.png")) +
                         " --json");
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(jsonNumber(result.out, "patches"), 600.0);
-  EXPECT_LT(jsonNumber(result.out, "final_rmse"), 0.05);
+  EXPECT_LT(jsonNumber(result.out, "final_rmse"), 1e-3);  // the family has rank 3: 12 atoms fit it
   const auto dictionary = PatchDictionary::load(dir.file("d.pdd"), 8);
   EXPECT_EQ(dictionary->atoms().cols(), 12);
   EXPECT_EQ(test_support::readFile(dir.file("atoms.png")).substr(1, 3), "PNG");
