@@ -74,8 +74,6 @@ SimdKernels activeSimdKernels()
   return active;
 }
 
-bool correlationsUseAvx2() { return activeSimdKernels() != SimdKernels::Portable; }
-
 namespace {
 
 SimdKernels checked(SimdKernels kernels)

@@ -61,9 +61,6 @@ void subtractCombination(const double* g, const double* const* columns, const do
 void subtractCombination(const double* g, const double* const* columns, const double* c, int count, int num_atoms,
                          double* out, SimdKernels kernels);
 
-/** True when computeCorrelations runs the AVX2 or AVX-512 kernel on this CPU. */
-bool correlationsUseAvx2();
-
 }  // namespace detail
 }  // namespace patchdict
 }  // namespace pcl
