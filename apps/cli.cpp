@@ -339,6 +339,18 @@ JsonObject& JsonObject::add(const std::string& key, const std::vector<long long>
   return *this;
 }
 
+JsonObject& JsonObject::add(const std::string& key, const std::vector<double>& values)
+{
+  std::string array = "[";
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    char buffer[64];
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, values[i]);
+    array += (i ? "," : "") + (std::isfinite(values[i]) ? std::string(buffer, result.ptr) : std::string("null"));
+  }
+  members_.emplace_back(key, array + "]");
+  return *this;
+}
+
 JsonObject& JsonObject::addNull(const std::string& key)
 {
   members_.emplace_back(key, "null");

@@ -101,6 +101,7 @@ public:
   JsonObject& add(const std::string& key, const JsonObject& value);
   JsonObject& add(const std::string& key, const std::vector<JsonObject>& values);  ///< an array of objects
   JsonObject& add(const std::string& key, const std::vector<long long>& values);   ///< an array of integers
+  JsonObject& add(const std::string& key, const std::vector<double>& values);      ///< an array of numbers
   JsonObject& addNull(const std::string& key);
   std::string str() const;
 

@@ -40,6 +40,7 @@ struct CloudRepairLine {
   OrganizedFillParameters organized;
   std::string height_field = "auto";
   std::string patches = "measured";  ///< --patch-decision: measured or always
+  std::string sensor_model;          ///< --sensor-model: the frames' saved sensor model
   /// The bound the report names: the one given, or Poisson's own (CloudHoleCompletion's 0.15 × the
   /// largest side when max_hole_diameter is 0).
   double reportedMaxHoleDiameter() const
@@ -97,6 +98,8 @@ CloudRepairLine readCloudRepairLine(const Arguments& args, bool fill)
     line.height_field = args.getWord("height-field");
   }
   line.patches = args.getWord("patch-decision");
+  if (args.has("sensor-model"))
+    line.sensor_model = args.get("sensor-model");
   return line;
 }
 
@@ -135,6 +138,8 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
     base.setHeightField(line.height_field == "yes"  ? Choice::Always
                         : line.height_field == "no" ? Choice::Never
                                                     : Choice::Auto);
+    if (!line.sensor_model.empty())
+      base.setSensorModel(loadSensorModel(line.sensor_model));
     inpainter.setDictionary(dictionary);
     inpainter.setPatchDecision(args.has("no-patches")                 ? PatchDecision::Never
                                : line.patches == "always" ? PatchDecision::Always
@@ -145,7 +150,7 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
     result.denoise_patches = inpainter.getDenoisingPatchReport();
     result.records = inpainter.getKeptIndices();
     result.records.insert(result.records.end(), inpainter.getAddedSources().begin(), inpainter.getAddedSources().end());
-    if (inpainter.getReport().depth_image)
+    if (inpainter.getReport().depth_image || inpainter.getReport().range_image)
       result.filled = inpainter.getAddedSources();
   };
   // Normals are computed (and oriented) only when the output keeps them: the input had them.
@@ -183,6 +188,14 @@ void noteCloudRepair(const CloudRepairLine& line, const CloudRepairResult& resul
                   f.regions, f.holes_filled, f.pixels_filled, f.not_one_surface, f.touching_border, f.too_large,
                   f.free_space_dropped);
     note(quiet, text);
+  } else if (fill && report.range_image) {
+    const RangeFillReport& f = report.range_fill;
+    std::snprintf(text, sizeof text,
+                  "  range image (%zu beams x %zu columns): %zu regions without a return; %zu holes filled (%zu pixels), "
+                  "%zu at range discontinuities, %zu at grazing incidence, %zu open to the first or last beam, %zu too large",
+                  report.spinning.height, report.spinning.width, f.regions, f.holes_filled, f.pixels_filled,
+                  f.not_one_surface, f.grazing, f.touching_border, f.too_large);
+    note(quiet, text);
   } else if (fill && report.height_field_used) {
     const HeightFieldFillReport& h = report.height_field;
     std::snprintf(text, sizeof text,
@@ -200,6 +213,44 @@ void noteCloudRepair(const CloudRepairLine& line, const CloudRepairResult& resul
                   c.holes_from_poisson, c.holes_too_large, line.reportedMaxHoleDiameter(),
                   c.points_added, c.lattice_spacing / scale);
     note(quiet, text);
+  }
+}
+
+// 4b. A range image's filled pixels keep their own records (ring, time…); a float intensity field is
+// interpolated: the inverse-distance mean of the nearest measured pixel in each grid direction.
+void interpolateIntensity(pcl::PCLPointCloud2& blob, const CloudInput& input, const CloudRepairResult& result)
+{
+  const pcl::PCLPointField* field = findScalarField(blob, "intensity");
+  if (!field || !result.report.range_image)
+    return;
+  const std::size_t W = blob.width, H = blob.height;
+  std::vector<char> measured(W * H, 0);
+  for (std::size_t i = 0; i < W * H; ++i)
+    measured[i] = std::isfinite((*input.cloud)[i].x);
+  for (const auto index : result.filled) {
+    const std::size_t i = static_cast<std::size_t>(index), b = i / W, c = i % W;
+    double sum = 0.0, weights = 0.0;
+    const auto look = [&](long long db, long long dc) {
+      for (long long d = 1; d < static_cast<long long>(W); ++d) {
+        const long long bb = static_cast<long long>(b) + d * db;
+        if (bb < 0 || bb >= static_cast<long long>(H))
+          return;
+        const std::size_t j = static_cast<std::size_t>(bb) * W +
+                              static_cast<std::size_t>((static_cast<long long>(c) + d * dc + static_cast<long long>(W) * d) %
+                                                       static_cast<long long>(W));
+        if (measured[j]) {
+          sum += readScalar(blob, j, *field) / double(d);
+          weights += 1.0 / double(d);
+          return;
+        }
+      }
+    };
+    look(0, 1);
+    look(0, -1);
+    look(1, 0);
+    look(-1, 0);
+    if (weights > 0.0)
+      writeScalar(blob, i, *field, sum / weights);
   }
 }
 
@@ -238,6 +289,7 @@ void writeCarriedPcd(const CloudRepairLine& line, const CloudInput& input, const
     for (std::size_t i = 0; i < denoised.size(); ++i)
       if (changed[i] || !std::isfinite(denoised[i].x))
         writePoint(out, i, denoised[i]);
+    interpolateIntensity(out, input, result);
     out.is_dense = denoised.is_dense;
   } else {
     out.header = input.blob.header;
@@ -345,6 +397,39 @@ JsonObject depthImageJson(const CloudRepairResult& result, bool fill)
   return image;
 }
 
+JsonObject rangeImageJson(const CloudRepairResult& result, bool fill)
+{
+  const CloudDenoisingReport& report = result.report;
+  const SpinningSensorModel& s = report.spinning;
+  const RangeNoiseModel& n = report.range_noise;
+  JsonObject image, sensor, law;
+  sensor.add("beams", s.height).add("columns", s.width).add("wraps", s.wraps)
+      .add("azimuth_step_degrees", s.azimuth_step * 180.0 / 3.14159265358979323846)
+      .add("rms_degrees", s.rms_radians * 180.0 / 3.14159265358979323846);
+  law.add("coefficient", n.coefficient).add("exponent", n.exponent).add("exponent_fitted", n.exponent_fitted)
+      .add("quantum", n.quantum).add("samples", n.samples).add("range_low", n.range_low).add("range_high", n.range_high);
+  image.add("sensor", sensor).add("noise_law", law).add("sensor_model_given", report.sensor_model_given)
+      .add("off_ray_points", report.off_ray_points).add("seconds_sensor_model", report.seconds_sensor_model);
+  if (result.mode != Inpainter::Mode::Complete) {
+    const RangeDenoisingReport& d = report.range_denoising;
+    JsonObject denoising;
+    denoising.add("moved", d.moved).add("left", d.left).add("clamped", d.clamped)
+        .add("free_space_clamped", d.free_space_clamped).add("rms_shift_sigmas", d.rms_shift_sigmas)
+        .add("seconds", d.seconds);
+    image.add("denoising", denoising);
+  }
+  if (fill) {
+    const RangeFillReport& f = report.range_fill;
+    JsonObject holes;
+    holes.add("regions", f.regions).add("filled", f.holes_filled).add("touching_border", f.touching_border)
+        .add("too_large", f.too_large).add("not_one_surface", f.not_one_surface)
+        .add("grazing", f.grazing).add("pixels_filled", f.pixels_filled).add("free_space_clamped", f.free_space_clamped)
+        .add("seconds", report.completion.seconds_fill);
+    image.add("holes", holes);
+  }
+  return image;
+}
+
 // 5. --json: a patch stage (lengths in the report's unit), then the whole report.
 JsonObject patchStageJson(const CloudPatchReport& p, double scale)
 {
@@ -400,7 +485,9 @@ JsonObject cloudRepairJson(const CloudRepairLine& line, const CloudInput& input,
   }
   if (report.depth_image)
     json.add("depth_image", depthImageJson(result, fill));
-  if (!report.depth_image) {
+  if (report.range_image)
+    json.add("range_image", rangeImageJson(result, fill));
+  if (!report.depth_image && !report.range_image) {
     if (fill)
       json.add("patches", patchStageJson(result.patches, scale));
     if (result.mode != Inpainter::Mode::Complete)

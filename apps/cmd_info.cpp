@@ -16,6 +16,7 @@ int runInfo(const std::vector<std::string>& raw)
   const Arguments args = readCommandLine(raw, commandSpec("info"));
   if (isCloudFile(args.positionals()[0]))
     return runCloudInfo(args);
+  args.refuse("save-sensor-model", "is for organised clouds (.pcd), not meshes");
   ReadInfo read_info;
   const TriangleMesh mesh = loadMesh(args.positionals()[0], true, &read_info);
   const MeshHygieneReport report = inspectMesh(mesh);

@@ -1,11 +1,13 @@
 // `pcl_patchdict info CLOUD`: what a cloud user needs to know before repairing it — organisation,
-// finite points, spacing, and for a depth image its camera and its noise law σ(z) = a·z^p.
+// finite points, spacing, and the sensor of an organised frame: a depth image's camera and noise law
+// σ(z) = a·z^p, or a spinning LiDAR's beams and range-noise law (saved with --save-sensor-model).
 #include "cli.h"
 #include "cloud_input.h"
 
 #include <pcl_patchdict/cloud/depth_image.h>
 #include <pcl_patchdict/cloud/gross_outliers.h>
 #include <pcl_patchdict/cloud/height_field_hole_filling.h>
+#include <pcl_patchdict/cloud/sensor_model.h>
 
 #include <pcl/kdtree/kdtree_flann.h>
 
@@ -41,6 +43,55 @@ double medianSpacing(const pcl::PointCloud<pcl::PointNormal>::Ptr& cloud)
   return nearest[nearest.size() / 2];
 }
 
+// The sensor of an organised frame, in its own frame or else in its pose's (as the repairs read it).
+SensorModel organisedSensorModel(const CloudInput& input, const std::vector<Eigen::Vector3d>& points)
+{
+  const auto& cloud = *input.cloud;
+  SensorModel model = estimateSensorModel(points, cloud.width, cloud.height);
+  const Eigen::Matrix3d R = cloud.sensor_orientation_.cast<double>().normalized().toRotationMatrix();
+  const Eigen::Vector3d o = cloud.sensor_origin_.head<3>().cast<double>();
+  if (model.kind != SensorModel::Kind::None || (R.isIdentity(1e-12) && o.isZero(0.0)))
+    return model;
+  std::vector<Eigen::Vector3d> local(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    local[i] = R.transpose() * (points[i] - o);
+  const SensorModel posed = estimateSensorModel(local, cloud.width, cloud.height);
+  return posed.kind != SensorModel::Kind::None ? posed : model;
+}
+
+// A spinning LiDAR's beams and range noise: the summary lines, and the JSON.
+std::string describeSpinning(const SensorModel& model, JsonObject& json)
+{
+  const SpinningSensorModel& s = model.spinning;
+  const RangeNoiseModel& law = model.range_noise;
+  const double deg = 180.0 / 3.14159265358979323846;
+  JsonObject sensor, noise;
+  std::vector<double> elevations;
+  for (const double e : s.elevation)
+    elevations.push_back(e * deg);
+  sensor.add("kind", "spinning").add("beams", s.height).add("columns", s.width)
+      .add("elevation_top_degrees", elevations.front()).add("elevation_bottom_degrees", elevations.back())
+      .add("azimuth_step_degrees", s.azimuth_step * deg).add("wraps", s.wraps)
+      .add("beam_origin_radius", s.beam_radius).add("beam_origin_height", s.beam_height)
+      .add("rms_degrees", s.rms_radians * deg).add("off_ray_points", s.off_ray).add("elevations_degrees", elevations);
+  noise.add("coefficient", law.coefficient).add("exponent", law.exponent).add("exponent_fitted", law.exponent_fitted)
+      .add("quantum", law.quantum).add("samples", law.samples).add("range_low", law.range_low)
+      .add("range_high", law.range_high).add("sigma_at_range_low", law.sigma(law.range_low))
+      .add("sigma_at_range_high", law.sigma(law.range_high));
+  json.add("sensor", sensor).add("range_noise", noise);
+  char line[600];
+  std::snprintf(line, sizeof line,
+                "\n  spinning LiDAR: %zu beams from %.2f to %.2f degrees, %zu columns of %.4f degrees%s; beam origins "
+                "%.4g from the axis, %.4g above the origin; rays fit to %.4f degrees RMS, %zu points off their rays"
+                "\n  range %.3g to %.3g (5th-95th percentile): noise %.3g to %.3g (sigma = %.3g r^%.2f, %s; "
+                "range steps of %.3g)",
+                s.height, elevations.front(), elevations.back(), s.width, s.azimuth_step * deg,
+                s.wraps ? ", a whole turn" : "", s.beam_radius, s.beam_height, s.rms_radians * deg, s.off_ray,
+                law.range_low, law.range_high, law.sigma(law.range_low), law.sigma(law.range_high), law.coefficient,
+                law.exponent, law.exponent_fitted ? "exponent fitted" : "exponent 0 assumed", law.quantum);
+  return line;
+}
+
 }  // namespace
 
 int runCloudInfo(const Arguments& args)
@@ -59,8 +110,10 @@ int runCloudInfo(const Arguments& args)
   for (std::size_t i = 0; i < first.size(); ++i)
     copies += first[i] != i ? 1 : 0;
   const bool organised = cloud.height > 1;
-  const DepthImage image = organised ? makeDepthImage(points, cloud.width, cloud.height) : DepthImage{};
-  const DepthNoiseModel law = image.camera.valid ? estimateDepthNoise(image) : DepthNoiseModel{};
+  const SensorModel model = organised ? organisedSensorModel(input, points) : SensorModel{};
+  DepthImage image;
+  image.camera = model.camera;
+  const DepthNoiseModel& law = model.depth_noise;
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   const bool height_field = !organised && isHeightFieldCloud(points, &up);
   const double spacing = medianSpacing(input.cloud);
@@ -104,8 +157,19 @@ int runCloudInfo(const Arguments& args)
                   image.camera.pixelSpacing(low), image.camera.pixelSpacing(high), law.sigma(low), law.sigma(high),
                   law.coefficient, law.exponent, law.exponent_fitted ? "exponent fitted" : "exponent 2 assumed");
     summary += line;
+  } else if (model.kind == SensorModel::Kind::Spinning) {
+    summary += describeSpinning(model, json);
   } else if (organised) {
-    summary += "\n  its grid is no pinhole image: repaired as an unorganised cloud";
+    summary += "\n  " + model.failure + ": repaired as an unorganised cloud";
+  }
+  if (args.has("save-sensor-model")) {
+    const std::string out = args.get("save-sensor-model");
+    checkOutputPath(out, path);
+    if (model.kind == SensorModel::Kind::None)
+      throw Error("no sensor model to save: " + (organised ? model.failure : "the cloud is not organised"));
+    saveSensorModel(model, out);
+    json.add("sensor_model_file", out);
+    summary += "\n  sensor model written to " + out;
   }
   if (args.has("json"))
     std::cout << json.str() << '\n';

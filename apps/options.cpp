@@ -245,7 +245,10 @@ std::vector<OptionSpec> cloudDenoisingOptions()
           flag("no-patches", "the geometric result alone (no patch stage)"),
           flag("self-similar", "patches of a dictionary learned from the input (the default; applied if measured to help)"),
           patchDecision(),
-          text("dict", "DICT.pdd", "code the patches over this dictionary (applied if measured to help)")};
+          text("dict", "DICT.pdd", "code the patches over this dictionary (applied if measured to help)"),
+          text("sensor-model", "MODEL.txt",
+               "organised frames: the sensor model saved by info --save-sensor-model (nothing fitted; "
+               "a frame that does not fit it is refused)")};
 }
 
 /** The commands that make and score surfaces and patches (demo ... reconstruct). */
@@ -256,7 +259,10 @@ void addSurfaceCommands(std::vector<CommandSpec>& table)
                    {text("output", "DIR", "folder of the meshes and pictures", "pcl_patchdict_demo"),
                     flag("no-pictures", "meshes only")},
                    {{"out", "output"}}});
-  table.push_back({"info", "", "IN", 1, 1, "statistics and hygiene report of a mesh or cloud", {}, {}});
+  table.push_back({"info", "", "IN", 1, 1, "statistics and hygiene report of a mesh or cloud",
+                   {text("save-sensor-model", "MODEL.txt",
+                         "an organised cloud: write its sensor model (camera or beams, noise law) for the frames after")},
+                   {}});
   table.push_back({"eval", "", "REF OUT", 2, 2,
                    "vertex RMSE, symmetric surface distance, Hausdorff and PSNR of OUT against REF",
                    {text("vertices", "IDX.txt", "vertex RMSE over these vertices only (same vertex count)").noted("all"),

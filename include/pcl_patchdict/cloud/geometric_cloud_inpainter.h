@@ -7,6 +7,8 @@
 #include <pcl_patchdict/cloud/height_field_hole_filling.h>
 #include <pcl_patchdict/cloud/local_quadric_projection.h>
 #include <pcl_patchdict/cloud/organized_hole_filling.h>
+#include <pcl_patchdict/cloud/range_image_repair.h>
+#include <pcl_patchdict/cloud/sensor_model.h>
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -109,6 +111,16 @@ struct CloudDenoisingReport {
   DepthDenoisingReport depth_denoising;
   /// Unorganised input with a viewpoint (setViewpoint): new points it saw through, dropped.
   std::size_t free_space_dropped = 0;  ///< denoised points the sensor saw through: kept as measured
+  /// An organised input whose grid is a spinning LiDAR's (rows = beams, columns = azimuth steps) is
+  /// processed as a range image (range_image.h): denoised along the beams, filled in place.
+  bool range_image = false;
+  SpinningSensorModel spinning;
+  RangeNoiseModel range_noise;
+  RangeFillReport range_fill;
+  RangeDenoisingReport range_denoising;
+  /// The sensor model came from setSensorModel (true) or was estimated from this cloud.
+  bool sensor_model_given = false;
+  double seconds_sensor_model = 0.0;   ///< fitting the model and building the image
 };
 
 namespace detail {
@@ -224,6 +236,25 @@ public:
     * patches of the unorganised path, each point still moved along its ray). Default on. */
   void setDepthImageDenoising(bool enabled) { depth_image_denoising_ = enabled; }
   void setDepthDenoisingParameters(const DepthDenoisingParameters& parameters) { depth_denoising_ = parameters; }
+  /** The sensor of the frames to come (a stream: estimated once, e.g. from the first frame's
+    * getSensorModel(), or loaded with loadSensorModel). An organised input is then processed on this
+    * model — no camera or beams are fitted, no noise law estimated — and a frame whose grid does not
+    * fit it (another size, or its points off the model's rays) makes process() throw Error instead
+    * of being misrepaired. */
+  void setSensorModel(const SensorModel& model)
+  {
+    sensor_model_ = model;
+    has_sensor_model_ = model.kind != SensorModel::Kind::None;
+  }
+  void clearSensorModel() { has_sensor_model_ = false; }
+  /** The sensor model of the last organised input processed (given, or estimated from it); kind None
+    * when the last input was not organised or neither model fits it. */
+  const SensorModel& getSensorModel() const { return used_sensor_model_; }
+  /** The spinning-LiDAR path's fill and denoising (their max_hole_diameter: the completion's, when set). */
+  void setRangeFillParameters(const RangeFillParameters& parameters) { range_fill_ = parameters; }
+  const RangeFillParameters& getRangeFillParameters() const { return range_fill_; }
+  void setRangeDenoisingParameters(const RangeDenoisingParameters& parameters) { range_denoising_ = parameters; }
+  const RangeDenoisingParameters& getRangeDenoisingParameters() const { return range_denoising_; }
   /** The in-place fill of organised inputs (its max_hole_diameter: the completion's, when set). */
   void setOrganizedFillParameters(const OrganizedFillParameters& parameters) { organized_fill_ = parameters; }
   const OrganizedFillParameters& getOrganizedFillParameters() const { return organized_fill_; }
@@ -247,10 +278,18 @@ protected:
                          const DepthImage& image, const Eigen::Matrix3d& R, const Eigen::Vector3d& o,
                          PointCloudOut& output);
 
+  /** The spinning-LiDAR path: denoise along the beams, fill in place (range_image_repair.h). Points
+    * in the sensor's frame; x_output = R·x + o. */
+  void processRangeImage(const std::vector<Eigen::Vector3d>& points, const RangeImage& image,
+                         const RangeNoiseModel& noise, const Eigen::Matrix3d& R, const Eigen::Vector3d& o,
+                         PointCloudOut& output);
+
 private:
   // performProcessing's stages, in order.
   void readInput(detail::CloudRun& run);
   bool processAsDepthImage(const detail::CloudRun& run, PointCloudOut& output);
+  bool processOnSensorModel(const detail::CloudRun& run, PointCloudOut& output);
+  bool processAsRangeImage(const detail::CloudRun& run, PointCloudOut& output);
   void mergeCopies(detail::CloudRun& run);
   typename PointCloudIn::ConstPtr searchedCloud(const detail::CloudRun& run) const;
   void denoiseRun(detail::CloudRun& run, const detail::KnnSearch& knn, const RadiusNeighbourSearch& radius);
@@ -263,6 +302,7 @@ private:
   void fillDepthHoles(detail::DepthRun& run);
   void writeDepthOutput(const detail::DepthRun& run, const Eigen::Matrix3d& R, const Eigen::Vector3d& o,
                         PointCloudOut& output);
+  void interpolateFilledIntensity(const detail::DepthRun& run, PointCloudOut& output) const;
   /** Position (and normal, if the type has one) of an output point; its other fields are copied. */
   static void place(PointOutT& out, const Eigen::Vector3d& position, const Eigen::Vector3d& normal);
 
@@ -281,6 +321,10 @@ private:
   Eigen::Vector3d viewpoint_ = Eigen::Vector3d::Zero();
   bool has_viewpoint_ = false;
   bool keep_organized_ = true;
+  SensorModel sensor_model_, used_sensor_model_;
+  bool has_sensor_model_ = false;
+  RangeFillParameters range_fill_;
+  RangeDenoisingParameters range_denoising_;
   CloudDenoisingReport report_;
   pcl::Indices kept_indices_, added_sources_;
 };

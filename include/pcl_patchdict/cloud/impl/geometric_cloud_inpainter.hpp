@@ -1,6 +1,6 @@
 // GeometricCloudInpainter<PointInT, PointOutT> (see geometric_cloud_inpainter.h): the typed
 // shell around detail::denoiseCloud — point fields in and out, the search, organisation; the
-// organised path (processDepthImage) in geometric_cloud_inpainter_depth_image.hpp.
+// organised paths in geometric_cloud_inpainter_depth_image.hpp (pinhole) and _range_image.hpp (spinning).
 #pragma once
 
 #include <pcl_patchdict/core/error.h>
@@ -47,7 +47,10 @@ void GeometricCloudInpainter<PointInT, PointOutT>::performProcessing(PointCloudO
   const auto start = std::chrono::steady_clock::now();
   detail::CloudRun run;
   readInput(run);
-  if (run.identity && input.height > 1 && keep_organized_ && processAsDepthImage(run, output))
+  used_sensor_model_ = SensorModel{};
+  if (run.identity && input.height > 1 && keep_organized_ &&
+      (has_sensor_model_ ? processOnSensorModel(run, output)
+                         : processAsDepthImage(run, output) || processAsRangeImage(run, output)))
     return;
 
   KdTreePtr tree = tree_;
@@ -381,3 +384,4 @@ void GeometricCloudInpainter<PointInT, PointOutT>::place(PointOutT& out, const E
 }  // namespace pcl
 
 #include <pcl_patchdict/cloud/impl/geometric_cloud_inpainter_depth_image.hpp>
+#include <pcl_patchdict/cloud/impl/geometric_cloud_inpainter_range_image.hpp>

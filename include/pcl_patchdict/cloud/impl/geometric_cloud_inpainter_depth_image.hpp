@@ -74,7 +74,14 @@ void GeometricCloudInpainter<PointInT, PointOutT>::processDepthImage(const std::
   report_.input_points = n;
   report_.nonfinite_points = n - image.measured();  // NaN pixels and off-ray points
   const auto start = std::chrono::steady_clock::now();
-  report_.depth_noise = estimateDepthNoise(image);
+  const bool given = has_sensor_model_ && sensor_model_.kind == SensorModel::Kind::Pinhole;
+  report_.depth_noise = given ? sensor_model_.depth_noise : estimateDepthNoise(image);
+  report_.sensor_model_given = given;
+  used_sensor_model_.kind = SensorModel::Kind::Pinhole;
+  used_sensor_model_.width = image.width;
+  used_sensor_model_.height = image.height;
+  used_sensor_model_.camera = camera;
+  used_sensor_model_.depth_noise = report_.depth_noise;
   report_.seconds_noise = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   detail::DepthRun run(points, image);
   // The sensor's own noise law, unless the caller fixed σ or h for the patches: image-space denoising.

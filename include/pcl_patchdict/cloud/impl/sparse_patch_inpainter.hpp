@@ -36,8 +36,10 @@ void SparsePatchInpainter<PointInT, PointOutT>::performProcessing(PointCloudOut&
   base_.setIndices(indices_);
   base_.process(output);
   const CloudDenoisingReport& report = base_.getReport();
-  if (report.depth_image || output.height > 1) {
-    patch_report_.reason = denoise_report_.reason = "an organised depth image, repaired in the sensor's image";
+  if (report.depth_image || report.range_image || output.height > 1) {
+    patch_report_.reason = denoise_report_.reason =
+        report.range_image ? "a spinning LiDAR's range image, repaired along its beams"
+                           : "an organised depth image, repaired in the sensor's image";
     return;
   }
   const std::size_t added = base_.getMode() == Mode::Denoise ? 0 : report.points_added;

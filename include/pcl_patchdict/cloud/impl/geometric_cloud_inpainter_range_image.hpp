@@ -1,0 +1,250 @@
+// GeometricCloudInpainter<PointInT, PointOutT>: the spinning-LiDAR path (processRangeImage) and the
+// frames processed on a given sensor model (see geometric_cloud_inpainter.h).
+#pragma once
+
+#include <pcl_patchdict/core/error.h>
+#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+#include <utility>
+
+namespace pcl {
+namespace patchdict {
+namespace detail {
+
+template <typename T, typename = void>
+struct HasIntensity : std::false_type {};
+template <typename T>
+struct HasIntensity<T, std::void_t<decltype(std::declval<T&>().intensity)>> : std::true_type {};
+
+/** A pixel's normal from the grid (central differences of the present neighbours, the azimuth
+  * wrapping), facing its beam's origin. */
+inline Eigen::Vector3d rangeGridNormal(const DepthRun& run, const RangeImage& image, std::size_t i)
+{
+  const std::size_t W = run.W, H = run.H, c = i % W, b = i / W;
+  const bool wraps = image.model.wraps;
+  const auto at = [&](std::size_t cc, std::size_t bb) {
+    return run.present[bb * W + cc] ? run.position[bb * W + cc] : run.position[i];
+  };
+  const std::size_t left = c > 0 ? c - 1 : wraps ? W - 1 : c, right = c + 1 < W ? c + 1 : wraps ? 0 : c;
+  const Eigen::Vector3d du = at(right, b) - at(left, b);
+  const Eigen::Vector3d dv = at(c, std::min(H - 1, b + 1)) - at(c, b ? b - 1 : 0);
+  Eigen::Vector3d normal = du.cross(dv);
+  const Eigen::Vector3d& ray = image.direction[i];
+  normal = normal.norm() > 0.0 ? normal.normalized() : Eigen::Vector3d(-ray);
+  return normal.dot(ray) > 0.0 ? Eigen::Vector3d(-normal) : normal;
+}
+
+/** The median measured range (the report's typical range). */
+inline double medianRange(const RangeImage& image)
+{
+  std::vector<double> ranges;
+  for (std::size_t i = 0; i < image.range.size(); ++i)
+    if (image.valid[i])
+      ranges.push_back(image.range[i]);
+  if (ranges.empty())
+    return 0.0;
+  std::nth_element(ranges.begin(), ranges.begin() + static_cast<std::ptrdiff_t>(ranges.size() / 2), ranges.end());
+  return ranges[ranges.size() / 2];
+}
+
+}  // namespace detail
+
+template <typename PointInT, typename PointOutT>
+bool GeometricCloudInpainter<PointInT, PointOutT>::processAsRangeImage(const detail::CloudRun& run,
+                                                                        PointCloudOut& output)
+{
+  const PointCloudIn& input = *input_;
+  // The sensor's frame: its pose (sensor_origin_, sensor_orientation_), else the cloud's own.
+  const Eigen::Matrix3d pose_R = input.sensor_orientation_.template cast<double>().normalized().toRotationMatrix();
+  const Eigen::Vector3d pose_o = input.sensor_origin_.template head<3>().template cast<double>();
+  const bool posed = !(pose_R.isIdentity(1e-12) && pose_o.isZero(0.0));
+  std::string failure;
+  for (int frame = posed ? 0 : 1; frame < 2; ++frame) {
+    const Eigen::Matrix3d R = frame == 0 ? pose_R : Eigen::Matrix3d::Identity();
+    const Eigen::Vector3d o = frame == 0 ? pose_o : Eigen::Vector3d::Zero();
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<Eigen::Vector3d> local(run.points.size());
+    for (std::size_t i = 0; i < run.points.size(); ++i)
+      local[i] = R.transpose() * (run.points[i] - o);
+    const SpinningSensorModel model = fitSpinningSensor(local, input.width, input.height);
+    if (!model.valid) {
+      failure = model.failure;
+      continue;
+    }
+    const RangeImage image = makeRangeImage(local, model);
+    const RangeNoiseModel noise = estimateRangeNoise(image);
+    report_.seconds_sensor_model = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    processRangeImage(local, image, noise, R, o, output);
+    return true;
+  }
+  used_sensor_model_.failure = failure;
+  return false;
+}
+
+template <typename PointInT, typename PointOutT>
+bool GeometricCloudInpainter<PointInT, PointOutT>::processOnSensorModel(const detail::CloudRun& run,
+                                                                         PointCloudOut& output)
+{
+  const PointCloudIn& input = *input_;
+  const SensorModel& model = sensor_model_;
+  if (input.width != model.width || input.height != model.height)
+    throw Error("the frame is " + std::to_string(input.width) + " x " + std::to_string(input.height) +
+                "; the sensor model given is " + std::to_string(model.width) + " x " + std::to_string(model.height));
+  const Eigen::Matrix3d pose_R = input.sensor_orientation_.template cast<double>().normalized().toRotationMatrix();
+  const Eigen::Vector3d pose_o = input.sensor_origin_.template head<3>().template cast<double>();
+  const bool posed = !(pose_R.isIdentity(1e-12) && pose_o.isZero(0.0));
+  const bool spinning = model.kind == SensorModel::Kind::Spinning;
+  // Frames to try: a pinhole grid in the cloud's own frame first (as grabbers write it), a spinning
+  // sensor's in its pose first; the error of the last one tried is the one reported.
+  std::vector<int> frames = spinning ? std::vector<int>{0, 1} : std::vector<int>{1, 0};
+  if (!posed)
+    frames = {1};
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const Eigen::Matrix3d R = frames[k] == 0 ? pose_R : Eigen::Matrix3d::Identity();
+    const Eigen::Vector3d o = frames[k] == 0 ? pose_o : Eigen::Vector3d::Zero();
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<Eigen::Vector3d> local(run.points.size()), local_normals(run.normals.size());
+    for (std::size_t i = 0; i < run.points.size(); ++i)
+      local[i] = R.transpose() * (run.points[i] - o);
+    for (std::size_t i = 0; i < run.normals.size(); ++i)
+      local_normals[i] = R.transpose() * run.normals[i];
+    try {
+      if (spinning) {
+        const RangeImage image = makeRangeImage(local, model.spinning);
+        report_.seconds_sensor_model = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        report_.sensor_model_given = true;
+        processRangeImage(local, image, model.range_noise, R, o, output);
+      } else {
+        const DepthImage image = depthImageOnCamera(local, input.width, input.height, model.camera);
+        report_.seconds_sensor_model = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        processDepthImage(local, local_normals, image, R, o, output);
+      }
+      return true;
+    } catch (const Error&) {
+      if (k + 1 == frames.size())
+        throw;
+    }
+  }
+  return false;
+}
+
+template <typename PointInT, typename PointOutT>
+void GeometricCloudInpainter<PointInT, PointOutT>::processRangeImage(const std::vector<Eigen::Vector3d>& points,
+                                                                      const RangeImage& image,
+                                                                      const RangeNoiseModel& noise,
+                                                                      const Eigen::Matrix3d& R, const Eigen::Vector3d& o,
+                                                                      PointCloudOut& output)
+{
+  const std::size_t W = image.width, n = image.width * image.height;
+  report_.range_image = true;
+  report_.spinning = image.model;
+  report_.range_noise = noise;
+  report_.off_ray_points = image.model.off_ray;
+  report_.input_points = n;
+  report_.nonfinite_points = n - image.measured();
+  used_sensor_model_.kind = SensorModel::Kind::Spinning;
+  used_sensor_model_.width = image.width;
+  used_sensor_model_.height = image.height;
+  used_sensor_model_.spinning = image.model;
+  used_sensor_model_.range_noise = noise;
+  DepthImage grid;  // the run's bookkeeping: which pixels hold a measurement
+  grid.width = image.width;
+  grid.height = image.height;
+  grid.valid = image.valid;
+  grid.depth = image.range;
+  detail::DepthRun run(points, grid);
+  if (mode_ != Mode::Complete && run.queries.size() < 100)
+    throw Error("the frame has " + std::to_string(run.queries.size()) + " measured pixels; denoising needs at least 100");
+  const double typical = detail::medianRange(image);
+  report_.noise_sigma = noise.sigma(typical);
+  report_.mean_spacing = typical * std::abs(image.model.azimuth_step);
+  RangeImage current = image;  // the denoised ranges, when denoised first
+  if (mode_ != Mode::Complete) {
+    RangeDenoisingParameters denoising = range_denoising_;
+    if (denoising.num_threads == 0)
+      denoising.num_threads = parameters_.num_threads;
+    std::vector<double> ranges;
+    denoiseRangeImage(image, noise, denoising, ranges, report_.range_denoising);
+    report_.seconds_fit = report_.range_denoising.seconds;
+    for (const std::size_t i : run.queries) {
+      current.range[i] = ranges[i];
+      run.position[i] = image.model.pointAt(i / W, i % W, ranges[i]);
+    }
+    report_.bandwidth = denoising.column_radius * report_.mean_spacing;
+  }
+  if (mode_ != Mode::Denoise) {
+    RangeFillParameters fill = range_fill_;
+    if (completion_.max_hole_diameter > 0.0)
+      fill.max_hole_diameter = completion_.max_hole_diameter;
+    std::vector<double> ranges;
+    const auto fill_start = std::chrono::steady_clock::now();
+    fillRangeImageHoles(current, noise, fill, run.filled, ranges, report_.range_fill);
+    report_.completion.seconds_fill = std::chrono::duration<double>(std::chrono::steady_clock::now() - fill_start).count();
+    for (std::size_t k = 0; k < run.filled.size(); ++k) {
+      const std::size_t i = run.filled[k];
+      run.position[i] = image.model.pointAt(i / W, i % W, ranges[k]);
+      run.present[i] = 1;
+    }
+    report_.points_added = run.filled.size();
+    report_.completion.points_added = run.filled.size();
+    report_.completion.holes_filled = report_.range_fill.holes_filled;
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    if (run.present[i])
+      run.normal[i] = detail::rangeGridNormal(run, image, i);
+  writeDepthOutput(run, R, o, output);
+  interpolateFilledIntensity(run, output);
+}
+
+template <typename PointInT, typename PointOutT>
+void GeometricCloudInpainter<PointInT, PointOutT>::interpolateFilledIntensity(const detail::DepthRun& run,
+                                                                               PointCloudOut& output) const
+{
+  if constexpr (detail::HasIntensity<PointOutT>::value) {
+    // Each filled pixel: the inverse-distance mean of the nearest measured pixel in each of the four
+    // grid directions (the azimuth wrapping).
+    const std::size_t W = run.W, H = run.H;
+    const auto measured = [&](std::size_t i) { return run.image.valid[i] != 0; };
+    for (const std::size_t i : run.filled) {
+      const std::size_t b = i / W, c = i % W;
+      double sum = 0.0, weights = 0.0;
+      const auto take = [&](std::size_t j, std::size_t distance) {
+        sum += static_cast<double>(output[j].intensity) / double(distance);
+        weights += 1.0 / double(distance);
+      };
+      for (std::size_t d = 1; d < W; ++d)
+        if (measured(b * W + (c + d) % W)) {
+          take(b * W + (c + d) % W, d);
+          break;
+        }
+      for (std::size_t d = 1; d < W; ++d)
+        if (measured(b * W + (c + W - d) % W)) {
+          take(b * W + (c + W - d) % W, d);
+          break;
+        }
+      for (std::size_t d = 1; d <= b; ++d)
+        if (measured((b - d) * W + c)) {
+          take((b - d) * W + c, d);
+          break;
+        }
+      for (std::size_t d = 1; b + d < H; ++d)
+        if (measured((b + d) * W + c)) {
+          take((b + d) * W + c, d);
+          break;
+        }
+      if (weights > 0.0)
+        output[i].intensity = static_cast<decltype(output[i].intensity)>(sum / weights);
+    }
+  } else {
+    (void)run;
+    (void)output;
+  }
+}
+
+}  // namespace patchdict
+}  // namespace pcl

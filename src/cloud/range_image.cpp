@@ -1,0 +1,363 @@
+// A spinning LiDAR's range image: fitting the beams and azimuth steps, the range noise law, the
+// free-space bound (range_image.h).
+#include <pcl_patchdict/cloud/range_image.h>
+#include <pcl_patchdict/core/error.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <complex>
+#include <limits>
+
+namespace pcl {
+namespace patchdict {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+double wrapAngle(double a)
+{
+  a = std::fmod(a + kPi, 2.0 * kPi);
+  return a < 0.0 ? a + kPi : a - kPi;
+}
+
+double median(std::vector<double> v)
+{
+  if (v.empty())
+    return kNaN;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+// Circular median of angles: the median of their offsets from their circular mean.
+double circularMedian(const std::vector<double>& angles)
+{
+  if (angles.empty())
+    return kNaN;
+  std::complex<double> sum = 0.0;
+  for (const double a : angles)
+    sum += std::polar(1.0, a);
+  const double mean = std::arg(sum);
+  std::vector<double> offsets;
+  offsets.reserve(angles.size());
+  for (const double a : angles)
+    offsets.push_back(wrapAngle(a - mean));
+  return wrapAngle(mean + median(offsets));
+}
+
+// The beams' lines z = t·h + c (h the horizontal distance), robustly: least squares, then again over
+// the points within 3 MADs. A beam whose points span too little h keeps c = 0 and t the median ratio.
+void fitBeamLine(const std::vector<Eigen::Vector2d>& hz, double& t, double& c)
+{
+  std::vector<double> ratios;
+  for (const auto& q : hz)
+    ratios.push_back(q.y() / q.x());
+  t = median(ratios);
+  c = 0.0;
+  std::vector<double> hs;
+  for (const auto& q : hz)
+    hs.push_back(q.x());
+  const double h_med = median(hs);
+  double spread = 0.0;
+  for (const double h : hs)
+    spread += (h - h_med) * (h - h_med);
+  if (hz.size() < 8 || std::sqrt(spread / static_cast<double>(hz.size())) < 0.05 * h_med)
+    return;
+  std::vector<char> use(hz.size(), 1);
+  for (int pass = 0; pass < 2; ++pass) {
+    Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d b = Eigen::Vector2d::Zero();
+    for (std::size_t i = 0; i < hz.size(); ++i)
+      if (use[i]) {
+        const Eigen::Vector2d row(hz[i].x(), 1.0);
+        A += row * row.transpose();
+        b += row * hz[i].y();
+      }
+    const Eigen::Vector2d x = A.ldlt().solve(b);
+    if (!x.allFinite())
+      return;
+    t = x(0);
+    c = x(1);
+    std::vector<double> residuals;
+    for (const auto& q : hz)
+      residuals.push_back(std::abs(q.y() - t * q.x() - c));
+    const double mad = median(residuals);
+    for (std::size_t i = 0; i < hz.size(); ++i)
+      use[i] = residuals[i] <= 3.0 * 1.4826 * mad + 1e-12;
+  }
+}
+
+// Beam-origin circle (radius d, height z0) and per-beam elevations from the rows' points.
+bool fitElevations(const std::vector<Eigen::Vector3d>& points, SpinningSensorModel& m)
+{
+  const std::size_t W = m.width, H = m.height;
+  std::vector<double> t(H, kNaN), c(H, kNaN);
+  std::vector<std::vector<Eigen::Vector2d>> rows(H);
+  for (std::size_t b = 0; b < H; ++b) {
+    for (std::size_t col = 0; col < W; ++col) {
+      const Eigen::Vector3d& p = points[b * W + col];
+      const double h = std::hypot(p.x(), p.y());
+      if (p.allFinite() && h > 0.0)
+        rows[b].emplace_back(h, p.z());
+    }
+    if (rows[b].size() >= 2)
+      fitBeamLine(rows[b], t[b], c[b]);
+  }
+  // c_b = z0 − d·t_b over the beams with a line (d, z0 by least squares when the slopes spread).
+  Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d y = Eigen::Vector2d::Zero();
+  std::size_t lines = 0;
+  double t_lo = std::numeric_limits<double>::infinity(), t_hi = -t_lo;
+  for (std::size_t b = 0; b < H; ++b)
+    if (std::isfinite(t[b]) && c[b] != 0.0) {
+      const Eigen::Vector2d row(1.0, -t[b]);
+      A += row * row.transpose();
+      y += row * c[b];
+      ++lines;
+      t_lo = std::min(t_lo, t[b]);
+      t_hi = std::max(t_hi, t[b]);
+    }
+  if (lines >= 3 && t_hi - t_lo > 0.05) {
+    const Eigen::Vector2d x = A.ldlt().solve(y);
+    if (x.allFinite()) {
+      m.beam_height = x(0);
+      m.beam_radius = x(1);
+    }
+  }
+  m.elevation.assign(H, kNaN);
+  for (std::size_t b = 0; b < H; ++b) {
+    std::vector<double> e;
+    for (const auto& q : rows[b])
+      if (q.x() - m.beam_radius > 0.0)
+        e.push_back(std::atan2(q.y() - m.beam_height, q.x() - m.beam_radius));
+    m.elevation[b] = median(e);
+  }
+  // Beams without a point (all sky) take their elevation from their neighbours, evenly.
+  std::vector<std::size_t> known;
+  for (std::size_t b = 0; b < H; ++b)
+    if (std::isfinite(m.elevation[b]))
+      known.push_back(b);
+  if (known.empty())
+    return false;
+  for (std::size_t b = 0; b < H; ++b) {
+    if (std::isfinite(m.elevation[b]))
+      continue;
+    const auto hi = std::lower_bound(known.begin(), known.end(), b);
+    if (known.size() < 2)
+      return false;
+    const std::size_t b1 = hi == known.begin() ? known[0] : hi == known.end() ? known[known.size() - 2] : *(hi - 1);
+    const std::size_t b2 = hi == known.begin() ? known[1] : hi == known.end() ? known.back() : *hi;
+    const double slope = (m.elevation[b2] - m.elevation[b1]) / (double(b2) - double(b1));
+    m.elevation[b] = m.elevation[b1] + slope * (double(b) - double(b1));
+  }
+  return true;
+}
+
+// Azimuth step (median neighbour step) and per-beam offsets (circular medians).
+bool fitAzimuths(const std::vector<Eigen::Vector3d>& points, SpinningSensorModel& m)
+{
+  const std::size_t W = m.width, H = m.height;
+  std::vector<double> az(W * H, kNaN), steps;
+  for (std::size_t i = 0; i < W * H; ++i)
+    if (points[i].allFinite() && std::hypot(points[i].x(), points[i].y()) > m.beam_radius)
+      az[i] = std::atan2(points[i].y(), points[i].x());
+  for (std::size_t b = 0; b < H; ++b)
+    for (std::size_t col = 0; col + 1 < W; ++col)
+      if (std::isfinite(az[b * W + col]) && std::isfinite(az[b * W + col + 1]))
+        steps.push_back(wrapAngle(az[b * W + col + 1] - az[b * W + col]));
+  if (steps.size() < 8 || W < 2)
+    return false;
+  m.azimuth_step = median(steps);
+  if (!(std::abs(m.azimuth_step) > 1e-9) || std::abs(m.azimuth_step) * double(W) > 2.0 * kPi * 1.05)
+    return false;
+  m.wraps = std::abs(std::abs(m.azimuth_step) * double(W) - 2.0 * kPi) <= std::abs(m.azimuth_step);
+  std::vector<double> beam_start(H, kNaN), all;
+  for (std::size_t b = 0; b < H; ++b) {
+    std::vector<double> a;
+    for (std::size_t col = 0; col < W; ++col)
+      if (std::isfinite(az[b * W + col]))
+        a.push_back(wrapAngle(az[b * W + col] - double(col) * m.azimuth_step));
+    beam_start[b] = circularMedian(a);
+    if (std::isfinite(beam_start[b]))
+      all.push_back(beam_start[b]);
+  }
+  m.azimuth_start = circularMedian(all);
+  m.azimuth_offset.assign(H, 0.0);
+  for (std::size_t b = 0; b < H; ++b)
+    if (std::isfinite(beam_start[b]))
+      m.azimuth_offset[b] = wrapAngle(beam_start[b] - m.azimuth_start);
+  return true;
+}
+
+// Angle of a point off its pixel's ray, split into azimuth and elevation parts (radians); NaN when
+// the point is not in front of its beam's origin.
+Eigen::Vector2d offRay(const SpinningSensorModel& m, std::size_t b, std::size_t col, const Eigen::Vector3d& p)
+{
+  const Eigen::Vector3d q = p - m.rayOrigin(b, col);
+  const double h = std::hypot(p.x(), p.y()) - m.beam_radius;
+  if (!(q.dot(m.direction(b, col)) > 0.0) || !(h > 0.0))
+    return Eigen::Vector2d::Constant(kNaN);
+  return {wrapAngle(std::atan2(p.y(), p.x()) - m.azimuth(b, col)), std::atan2(q.z(), h) - m.elevation[b]};
+}
+
+// The tolerance of the off-ray test: half an azimuth step, half the gap to the nearest beam.
+Eigen::Vector2d rayTolerance(const SpinningSensorModel& m)
+{
+  return {0.5 * std::abs(m.azimuth_step), m.height > 1 ? 0.5 * m.beamGap() : 0.5 * std::abs(m.azimuth_step)};
+}
+
+}  // namespace
+
+double SpinningSensorModel::beamGap() const
+{
+  double gap = std::numeric_limits<double>::infinity();
+  for (std::size_t b = 0; b + 1 < elevation.size(); ++b)
+    gap = std::min(gap, std::abs(elevation[b + 1] - elevation[b]));
+  return gap;
+}
+
+std::size_t RangeImage::measured() const
+{
+  return static_cast<std::size_t>(std::count(valid.begin(), valid.end(), char(1)));
+}
+
+SpinningSensorModel fitSpinningSensor(const std::vector<Eigen::Vector3d>& points, std::size_t width,
+                                      std::size_t height)
+{
+  SpinningSensorModel m;
+  m.width = width;
+  m.height = height;
+  const auto fail = [&](const std::string& why) {
+    m.valid = false;
+    m.failure = why;
+    return m;
+  };
+  if (width * height != points.size() || width < 2)
+    return fail("the grid is " + std::to_string(width) + " x " + std::to_string(height) + " for " +
+                std::to_string(points.size()) + " points");
+  std::size_t finite = 0;
+  for (const auto& p : points)
+    finite += p.allFinite() && std::hypot(p.x(), p.y()) > 0.0 ? 1 : 0;
+  if (finite < 16)
+    return fail("fewer than 16 measured points");
+  if (!fitElevations(points, m))
+    return fail("no beam has a measured point");
+  for (std::size_t b = 0; b + 2 < height; ++b)
+    if ((m.elevation[b + 1] - m.elevation[b]) * (m.elevation[b + 2] - m.elevation[b + 1]) <= 0.0)
+      return fail("the rows' elevations are not monotonic (rows " + std::to_string(b) + "-" + std::to_string(b + 2) +
+                  "): rows are not beams in order");
+  if (height == 2 && m.elevation[0] == m.elevation[1])
+    return fail("two rows at one elevation: rows are not beams");
+  if (!fitAzimuths(points, m))
+    return fail("the columns are not azimuth steps of a turn");
+  // Every point against its ray: a beam's spread, the off-ray share, the RMS angle.
+  const Eigen::Vector2d tolerance = rayTolerance(m);
+  double squares = 0.0;
+  std::size_t used = 0;
+  std::vector<double> spread(height, 0.0);
+  std::vector<std::size_t> count(height, 0);
+  for (std::size_t b = 0; b < height; ++b)
+    for (std::size_t col = 0; col < width; ++col) {
+      const Eigen::Vector3d& p = points[b * width + col];
+      if (!p.allFinite())
+        continue;
+      const Eigen::Vector2d off = offRay(m, b, col, p);
+      if (!off.allFinite() || std::abs(off.x()) > tolerance.x() || std::abs(off.y()) > tolerance.y()) {
+        ++m.off_ray;
+        continue;
+      }
+      squares += off.squaredNorm();
+      spread[b] += off.y() * off.y();
+      ++count[b];
+      ++used;
+    }
+  if (m.off_ray * 10 > finite)
+    return fail(std::to_string(m.off_ray) + " of " + std::to_string(finite) +
+                " points lie off the rays of a spinning sensor's grid");
+  for (std::size_t b = 0; b < height && height > 1; ++b)
+    if (count[b] >= 8 && std::sqrt(spread[b] / double(count[b])) > m.beamGap() / 3.0)
+      return fail("row " + std::to_string(b) + " spreads over its neighbours' elevations: rows are not beams");
+  m.rms_radians = used ? std::sqrt(squares / double(used)) : 0.0;
+  m.valid = true;
+  return m;
+}
+
+RangeImage makeRangeImage(const std::vector<Eigen::Vector3d>& points, const SpinningSensorModel& model)
+{
+  if (!model.valid)
+    throw Error("no spinning-sensor model: " + model.failure);
+  if (points.size() != model.width * model.height)
+    throw Error("the frame's grid (" + std::to_string(points.size()) + " points) is not the sensor model's " +
+                std::to_string(model.width) + " x " + std::to_string(model.height));
+  RangeImage image;
+  image.width = model.width;
+  image.height = model.height;
+  image.model = model;
+  image.model.off_ray = 0;
+  const std::size_t n = points.size();
+  image.range.assign(n, kNaN);
+  image.valid.assign(n, 0);
+  image.direction.resize(n);
+  const Eigen::Vector2d tolerance = rayTolerance(model);
+  std::size_t finite = 0;
+  for (std::size_t b = 0; b < model.height; ++b)
+    for (std::size_t col = 0; col < model.width; ++col) {
+      const std::size_t i = b * model.width + col;
+      image.direction[i] = model.direction(b, col);
+      const Eigen::Vector3d& p = points[i];
+      if (!p.allFinite())
+        continue;
+      ++finite;
+      const Eigen::Vector2d off = offRay(model, b, col, p);
+      if (!off.allFinite() || std::abs(off.x()) > tolerance.x() || std::abs(off.y()) > tolerance.y()) {
+        ++image.model.off_ray;
+        continue;
+      }
+      image.range[i] = (p - model.rayOrigin(b, col)).dot(image.direction[i]);
+      image.valid[i] = 1;
+    }
+  if (image.model.off_ray * 10 > finite)
+    throw Error("the frame does not fit the sensor model: " + std::to_string(image.model.off_ray) + " of " +
+                std::to_string(finite) + " points lie off the model's rays (a frame of another sensor?)");
+  return image;
+}
+
+double RangeNoiseModel::sigma(double range) const
+{
+  const double law = coefficient * std::pow(std::max(range, 1e-12), exponent);
+  return std::max(law, quantum / std::sqrt(12.0));
+}
+
+std::vector<double> nearestMeasuredRange(const RangeImage& image)
+{
+  const std::size_t W = image.width, H = image.height;
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> across(W * H, inf), column(W * H, inf), nearest(W * H, inf);
+  const auto measured = [&](std::size_t i) { return image.valid[i] ? image.range[i] : inf; };
+  for (std::size_t b = 0; b < H; ++b)
+    for (std::size_t c = 0; c < W; ++c) {
+      double best = inf;  // the column's neighbours above and below; the pixel itself is added later
+      if (b > 0)
+        best = std::min(best, measured((b - 1) * W + c));
+      if (b + 1 < H)
+        best = std::min(best, measured((b + 1) * W + c));
+      across[b * W + c] = best;
+      column[b * W + c] = std::min(best, measured(b * W + c));
+    }
+  for (std::size_t b = 0; b < H; ++b)
+    for (std::size_t c = 0; c < W; ++c) {
+      double best = across[b * W + c];  // above and below, then the columns either side
+      if (c > 0 || image.model.wraps)
+        best = std::min(best, column[b * W + (c + W - 1) % W]);
+      if (c + 1 < W || image.model.wraps)
+        best = std::min(best, column[b * W + (c + 1) % W]);
+      nearest[b * W + c] = best;
+    }
+  return nearest;
+}
+
+}  // namespace patchdict
+}  // namespace pcl
