@@ -359,5 +359,47 @@ std::vector<double> nearestMeasuredRange(const RangeImage& image)
   return nearest;
 }
 
+OriginFreeSpace::OriginFreeSpace(const RangeImage& image) : image_(image)
+{
+  const std::size_t W = image.width, H = image.height;
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> norm(W * H, inf);
+  for (std::size_t i = 0; i < W * H; ++i)
+    if (image.valid[i])
+      norm[i] = image.model.pointAt(i / W, i % W, image.range[i]).norm();
+  nearest_.assign(W * H, inf);
+  for (std::size_t b = 0; b < H; ++b)
+    for (std::size_t c = 0; c < W; ++c)
+      for (int db = -1; db <= 1; ++db)
+        for (int dc = -1; dc <= 1; ++dc) {
+          if ((db < 0 && b == 0) || b + db >= H || (!image.model.wraps && ((dc < 0 && c == 0) || c + dc >= W)))
+            continue;
+          nearest_[b * W + c] = std::min(nearest_[b * W + c], norm[(b + db) * W + (c + W + dc) % W]);
+        }
+  descending_ = H < 2 || image.model.elevation[0] > image.model.elevation[H - 1];
+}
+
+bool OriginFreeSpace::violates(const Eigen::Vector3d& p, std::size_t own) const
+{
+  const SpinningSensorModel& m = image_.model;
+  const std::size_t W = m.width, H = m.height;
+  const double elevation = std::atan2(p.z(), std::hypot(p.x(), p.y()));
+  // The beam nearest that elevation (elevations are strictly monotonic over the rows).
+  std::size_t lo = 0, hi = H - 1;
+  while (hi - lo > 1) {
+    const std::size_t mid = (lo + hi) / 2;
+    ((m.elevation[mid] > elevation) == descending_ ? lo : hi) = mid;
+  }
+  const std::size_t b = std::abs(m.elevation[lo] - elevation) <= std::abs(m.elevation[hi] - elevation) ? lo : hi;
+  const double turns = wrapAngle(std::atan2(p.y(), p.x()) - m.azimuth_start - m.azimuth_offset[b]) / m.azimuth_step;
+  long long c = std::llround(turns);
+  if (m.wraps)
+    c = ((c % static_cast<long long>(W)) + static_cast<long long>(W)) % static_cast<long long>(W);
+  else if (c < 0 || c >= static_cast<long long>(W))
+    return false;
+  const std::size_t i = b * W + static_cast<std::size_t>(c);
+  return i != own && p.norm() < nearest_[i];
+}
+
 }  // namespace patchdict
 }  // namespace pcl

@@ -105,6 +105,7 @@ void denoiseRangeImage(const RangeImage& image, const RangeNoiseModel& noise, co
       spatial.push_back(std::exp(-0.5 * (db * db / (sb * sb) + dc * dc / (sc * sc))));
     }
   const std::vector<double> nearest = nearestMeasuredRange(image);
+  const OriginFreeSpace from_origin(image);
   range_out.assign(n, std::numeric_limits<double>::quiet_NaN());
   std::vector<char> state(n, 0);  // 0 kept, 1 moved, 2 clamped to σ, 3 clamped at free space
   const long long rows = static_cast<long long>(image.height);
@@ -131,6 +132,13 @@ void denoiseRangeImage(const RangeImage& image, const RangeNoiseModel& noise, co
         }
         if (r < r0 && std::isfinite(nearest[i]) && r < nearest[i]) {
           r = std::max(std::min(r0, nearest[i]), r);
+          how = 3;
+        }
+        // Seen from the origin, a point that already lies where the beams crossed (near the sensor,
+        // where the beam origins' offset matters) stays as measured; none is moved there.
+        if ((r < r0 || from_origin.violates(image.model.pointAt(std::size_t(b), c, r0), i)) &&
+            from_origin.violates(image.model.pointAt(std::size_t(b), c, r), i)) {
+          r = r0;
           how = 3;
         }
         range_out[i] = r;

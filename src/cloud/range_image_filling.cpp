@@ -122,6 +122,7 @@ void fillRangeImageHoles(const RangeImage& image, const RangeNoiseModel& noise, 
   const Grid grid{image.width, image.height, image.model.wraps};
   const double step = std::abs(image.model.azimuth_step);
   const std::vector<double> nearest = nearestMeasuredRange(image);
+  const OriginFreeSpace from_origin(image);
   std::vector<int> mark(image.width * image.height, -1);
   std::vector<std::size_t> ring;
   std::vector<double> rim_misfit(image.width * image.height, 0.0);  // set on each region's rim in turn
@@ -249,6 +250,10 @@ void fillRangeImageHoles(const RangeImage& image, const RangeNoiseModel& noise, 
       if (std::isfinite(nearest[i]) && r < nearest[i]) {
         r = nearest[i];
         ++report.free_space_clamped;
+      }
+      if (from_origin.violates(image.model.pointAt(i / image.width, i % image.width, r), i)) {
+        ++report.free_space_dropped;
+        continue;
       }
       filled.emplace_back(i, r);
     }

@@ -109,5 +109,24 @@ RangeNoiseModel estimateRangeNoise(const RangeImage& image, std::size_t stride =
   * placed, or moved, on pixel i's ray nearer than that would be in space the beams crossed. */
 std::vector<double> nearestMeasuredRange(const RangeImage& image);
 
+/** The same space as seen from the sensor's origin, the single viewpoint that ray-casting tools
+  * (occupancy maps, free-space checks) assume: near the sensor the beam origins' offset turns a
+  * point's direction from the origin towards another beam's pixel. A point lies in that space when
+  * it is nearer the origin than every measured point of the 3 × 3 pixels around the beam and column
+  * its direction from the origin falls on. */
+class OriginFreeSpace {
+public:
+  explicit OriginFreeSpace(const RangeImage& image);
+  /** True when p (in the sensor's frame) is nearer the origin than the measured points around the
+    * pixel its direction from the origin falls on, and that pixel is not `own` (its own pixel is
+    * judged by nearestMeasuredRange). */
+  bool violates(const Eigen::Vector3d& p, std::size_t own) const;
+
+private:
+  const RangeImage& image_;
+  std::vector<double> nearest_;  // 3 × 3 minimum of |point| over measured pixels
+  bool descending_ = true;       // elevations fall with the row
+};
+
 }  // namespace patchdict
 }  // namespace pcl

@@ -41,6 +41,7 @@ struct RangeFillReport {
   std::size_t grazing = 0;          ///< rims on one surface seen beyond max_incidence_degrees
   std::size_t pixels_filled = 0;
   std::size_t free_space_clamped = 0;  ///< fills pushed back to the nearest range the beams measured
+  std::size_t free_space_dropped = 0;  ///< fills left open: seen from the origin, in space the beams crossed
 };
 
 /** Fills the enclosed dropouts of a range image: 4-connected regions without a return that touch
@@ -48,7 +49,9 @@ struct RangeFillReport {
   * surface (rim_spread) seen at no more than max_incidence_degrees. Each is filled with the plane
   * through the ring around it (1/ρ linear in the ray direction, weighted by 1/σ² of 1/ρ, then
   * Tukey-reweighted twice) plus the plane's misfit at the rim interpolated harmonically inward,
-  * evaluated on each pixel's own ray; never nearer than the measured ranges of its 8 neighbours. Appends, per filled pixel
+  * evaluated on each pixel's own ray; never nearer than the measured ranges of its 8 neighbours, and
+  * left open where, seen from the sensor's origin, it would lie in space the beams crossed
+  * (OriginFreeSpace). Appends, per filled pixel
   * in row-major order, its index and its range. Deterministic. */
 void fillRangeImageHoles(const RangeImage& image, const RangeNoiseModel& noise, const RangeFillParameters& parameters,
                          std::vector<std::size_t>& pixels, std::vector<double>& ranges, RangeFillReport& report);
@@ -82,7 +85,7 @@ struct RangeDenoisingReport {
   * over the ray directions of its window (local linear regression with a bilateral range kernel, as
   * denoiseDepthImage does for pinhole images), evaluated on the pixel's own ray; the move is clamped
   * to ±max_shift_sigmas·σ(ρ), and never brings the point nearer the sensor than the smallest range its
-  * 8 neighbours measured. range_out: NaN where the input has none. Throws Error when the noise model
+  * 8 neighbours measured, nor, seen from the origin, into space the beams crossed (OriginFreeSpace). range_out: NaN where the input has none. Throws Error when the noise model
   * has no coefficient. */
 void denoiseRangeImage(const RangeImage& image, const RangeNoiseModel& noise, const RangeDenoisingParameters& parameters,
                        std::vector<double>& range_out, RangeDenoisingReport& report);

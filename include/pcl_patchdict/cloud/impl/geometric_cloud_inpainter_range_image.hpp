@@ -171,9 +171,14 @@ void GeometricCloudInpainter<PointInT, PointOutT>::processRangeImage(const std::
     std::vector<double> ranges;
     denoiseRangeImage(image, noise, denoising, ranges, report_.range_denoising);
     report_.seconds_fit = report_.range_denoising.seconds;
+    // Each point moves along its own measured ray (from its beam's origin), so that a point whose
+    // range is kept keeps its position to the bit.
     for (const std::size_t i : run.queries) {
       current.range[i] = ranges[i];
-      run.position[i] = image.model.pointAt(i / W, i % W, ranges[i]);
+      if (ranges[i] != image.range[i]) {
+        const Eigen::Vector3d origin = image.model.rayOrigin(i / W, i % W);
+        run.position[i] = origin + (run.measured[i] - origin) * (ranges[i] / image.range[i]);
+      }
     }
     report_.bandwidth = denoising.column_radius * report_.mean_spacing;
   }
