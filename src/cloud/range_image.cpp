@@ -285,13 +285,47 @@ SpinningSensorModel fitSpinningSensor(const std::vector<Eigen::Vector3d>& points
   return m;
 }
 
+std::shared_ptr<const SpinningRays> spinningRays(const SpinningSensorModel& model)
+{
+  const std::size_t W = model.width, H = model.height;
+  std::vector<double> column_cos(W), column_sin(W);
+  for (std::size_t c = 0; c < W; ++c) {
+    const double a = model.azimuth_start + static_cast<double>(c) * model.azimuth_step;
+    column_cos[c] = std::cos(a);
+    column_sin[c] = std::sin(a);
+  }
+  auto rays = std::make_shared<SpinningRays>();
+  rays->direction.resize(W * H);
+  rays->origin.resize(W * H);
+  for (std::size_t b = 0; b < H; ++b) {
+    const double oc = std::cos(model.azimuth_offset[b]), os = std::sin(model.azimuth_offset[b]);
+    const double ec = std::cos(model.elevation[b]), es = std::sin(model.elevation[b]);
+    for (std::size_t c = 0; c < W; ++c) {
+      const double ca = column_cos[c] * oc - column_sin[c] * os, sa = column_sin[c] * oc + column_cos[c] * os;
+      rays->direction[b * W + c] = Eigen::Vector3d(ec * ca, ec * sa, es);
+      rays->origin[b * W + c] = Eigen::Vector3d(model.beam_radius * ca, model.beam_radius * sa, model.beam_height);
+    }
+  }
+  return rays;
+}
+
 RangeImage makeRangeImage(const std::vector<Eigen::Vector3d>& points, const SpinningSensorModel& model)
+{
+  if (!model.valid)
+    throw Error("no spinning-sensor model: " + model.failure);
+  return makeRangeImage(points, model, spinningRays(model));
+}
+
+RangeImage makeRangeImage(const std::vector<Eigen::Vector3d>& points, const SpinningSensorModel& model,
+                          const std::shared_ptr<const SpinningRays>& rays)
 {
   if (!model.valid)
     throw Error("no spinning-sensor model: " + model.failure);
   if (points.size() != model.width * model.height)
     throw Error("the frame's grid (" + std::to_string(points.size()) + " points) is not the sensor model's " +
                 std::to_string(model.width) + " x " + std::to_string(model.height));
+  if (!rays || rays->direction.size() != points.size() || rays->origin.size() != points.size())
+    throw Error("the rays given are not the sensor model's");
   RangeImage image;
   image.width = model.width;
   image.height = model.height;
@@ -300,28 +334,37 @@ RangeImage makeRangeImage(const std::vector<Eigen::Vector3d>& points, const Spin
   const std::size_t n = points.size();
   image.range.assign(n, kNaN);
   image.valid.assign(n, 0);
-  image.direction.resize(n);
-  const Eigen::Vector2d tolerance = rayTolerance(model);
-  std::size_t finite = 0;
+  image.rays = rays;
+  std::vector<double> inverse_cos(model.height);
   for (std::size_t b = 0; b < model.height; ++b)
-    for (std::size_t col = 0; col < model.width; ++col) {
-      const std::size_t i = b * model.width + col;
-      image.direction[i] = model.direction(b, col);
-      const Eigen::Vector3d& p = points[i];
-      if (!p.allFinite())
-        continue;
-      ++finite;
-      const Eigen::Vector2d off = offRay(model, b, col, p);
-      if (!off.allFinite() || std::abs(off.x()) > tolerance.x() || std::abs(off.y()) > tolerance.y()) {
-        ++image.model.off_ray;
-        continue;
-      }
-      image.range[i] = (p - model.rayOrigin(b, col)).dot(image.direction[i]);
-      image.valid[i] = 1;
+    inverse_cos[b] = 1.0 / std::cos(model.elevation[b]);
+  // Off the ray: the offset's parts along the azimuth and elevation directions over the range
+  // (tangents of the two angles), against half a step each.
+  const Eigen::Vector2d tolerance = rayTolerance(model);
+  const double tan_az = std::tan(tolerance.x()), tan_el = std::tan(tolerance.y());
+  std::size_t finite = 0, off = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d& p = points[i];
+    if (!p.allFinite())
+      continue;
+    ++finite;
+    const Eigen::Vector3d& u = rays->direction[i];
+    const Eigen::Vector3d q = p - rays->origin[i];
+    const double along = q.dot(u);
+    const double inverse_horizontal = inverse_cos[i / model.width];
+    const Eigen::Vector3d e_az(-u.y() * inverse_horizontal, u.x() * inverse_horizontal, 0.0);
+    const Eigen::Vector3d e_el = e_az.cross(u);  // towards the elevation's increase (or its opposite)
+    if (!(along > 0.0) || std::abs(q.dot(e_az)) > tan_az * along || std::abs(q.dot(e_el)) > tan_el * along) {
+      ++off;
+      continue;
     }
-  if (image.model.off_ray * 10 > finite)
-    throw Error("the frame does not fit the sensor model: " + std::to_string(image.model.off_ray) + " of " +
-                std::to_string(finite) + " points lie off the model's rays (a frame of another sensor?)");
+    image.range[i] = along;
+    image.valid[i] = 1;
+  }
+  image.model.off_ray = off;
+  if (off * 10 > finite)
+    throw Error("the frame does not fit the sensor model: " + std::to_string(off) + " of " + std::to_string(finite) +
+                " points lie off the model's rays (a frame of another sensor?)");
   return image;
 }
 
@@ -359,46 +402,72 @@ std::vector<double> nearestMeasuredRange(const RangeImage& image)
   return nearest;
 }
 
-OriginFreeSpace::OriginFreeSpace(const RangeImage& image) : image_(image)
+OriginFreeSpace::OriginFreeSpace(const RangeImage& image, double spacing_factor, double relative_range)
+    : image_(image), spacing_factor_(spacing_factor), relative_range_(relative_range)
 {
   const std::size_t W = image.width, H = image.height;
   const double inf = std::numeric_limits<double>::infinity();
-  std::vector<double> norm(W * H, inf);
+  // |point| per measured pixel, its minimum over the beams above and below, then over the columns.
+  std::vector<double> norm(W * H, inf), across(W * H, inf);
   for (std::size_t i = 0; i < W * H; ++i)
     if (image.valid[i])
-      norm[i] = image.model.pointAt(i / W, i % W, image.range[i]).norm();
+      norm[i] = image.pointAt(i, image.range[i]).norm();
+  for (std::size_t b = 0; b < H; ++b)
+    for (std::size_t c = 0; c < W; ++c) {
+      double best = norm[b * W + c];
+      if (b > 0)
+        best = std::min(best, norm[(b - 1) * W + c]);
+      if (b + 1 < H)
+        best = std::min(best, norm[(b + 1) * W + c]);
+      across[b * W + c] = best;
+    }
   nearest_.assign(W * H, inf);
   for (std::size_t b = 0; b < H; ++b)
-    for (std::size_t c = 0; c < W; ++c)
-      for (int db = -1; db <= 1; ++db)
-        for (int dc = -1; dc <= 1; ++dc) {
-          if ((db < 0 && b == 0) || b + db >= H || (!image.model.wraps && ((dc < 0 && c == 0) || c + dc >= W)))
-            continue;
-          nearest_[b * W + c] = std::min(nearest_[b * W + c], norm[(b + db) * W + (c + W + dc) % W]);
-        }
+    for (std::size_t c = 0; c < W; ++c) {
+      double best = across[b * W + c];
+      if (c > 0 || image.model.wraps)
+        best = std::min(best, across[b * W + (c + W - 1) % W]);
+      if (c + 1 < W || image.model.wraps)
+        best = std::min(best, across[b * W + (c + 1) % W]);
+      nearest_[b * W + c] = best;
+    }
   descending_ = H < 2 || image.model.elevation[0] > image.model.elevation[H - 1];
+  for (const double e : image.model.elevation)
+    tangent_.push_back(std::tan(e));
 }
 
 bool OriginFreeSpace::violates(const Eigen::Vector3d& p, std::size_t own) const
 {
   const SpinningSensorModel& m = image_.model;
   const std::size_t W = m.width, H = m.height;
-  const double elevation = std::atan2(p.z(), std::hypot(p.x(), p.y()));
-  // The beam nearest that elevation (elevations are strictly monotonic over the rows).
+  const double h = std::hypot(p.x(), p.y());
+  if (!(h > 0.0))
+    return false;
+  // The beam nearest the point's elevation from the origin (tangents are monotonic over the rows).
+  const double t = p.z() / h;
   std::size_t lo = 0, hi = H - 1;
   while (hi - lo > 1) {
     const std::size_t mid = (lo + hi) / 2;
-    ((m.elevation[mid] > elevation) == descending_ ? lo : hi) = mid;
+    ((tangent_[mid] > t) == descending_ ? lo : hi) = mid;
   }
-  const std::size_t b = std::abs(m.elevation[lo] - elevation) <= std::abs(m.elevation[hi] - elevation) ? lo : hi;
-  const double turns = wrapAngle(std::atan2(p.y(), p.x()) - m.azimuth_start - m.azimuth_offset[b]) / m.azimuth_step;
-  long long c = std::llround(turns);
+  const std::size_t b = std::abs(tangent_[lo] - t) <= std::abs(tangent_[hi] - t) ? lo : hi;
+  // Its column: the point's azimuth from its own pixel's, in steps, with the beams' offsets.
+  const std::size_t own_b = own / W, own_c = own % W;
+  const Eigen::Vector3d& u = image_.direction(own);
+  const double horizontal = std::hypot(u.x(), u.y());
+  const double across = (u.x() * p.y() - u.y() * p.x()) / horizontal, along = (u.x() * p.x() + u.y() * p.y()) / horizontal;
+  const double turn = std::atan2(across, along) + m.azimuth_offset[own_b] - m.azimuth_offset[b];
+  long long c = static_cast<long long>(own_c) + std::llround(turn / m.azimuth_step);
   if (m.wraps)
     c = ((c % static_cast<long long>(W)) + static_cast<long long>(W)) % static_cast<long long>(W);
   else if (c < 0 || c >= static_cast<long long>(W))
     return false;
   const std::size_t i = b * W + static_cast<std::size_t>(c);
-  return i != own && p.norm() < nearest_[i];
+  if (i == own || !std::isfinite(nearest_[i]))
+    return false;
+  const double d = nearest_[i];
+  const double tolerance = std::max(spacing_factor_ * d * std::abs(m.azimuth_step), relative_range_ * d);
+  return p.norm() < d - tolerance;
 }
 
 }  // namespace patchdict

@@ -17,29 +17,61 @@ namespace patchdict {
 
 namespace {
 
-struct Neighbour {
-  Eigen::Vector3d x;   // basis coordinates of its ray
-  double inverse, range, spatial, distance;
+// A pixel's window, structure of arrays: the loops over it have no branches.
+struct Window {
+  std::vector<double> x0, x1, x2, inverse, range, spatial, distance, weight;
+  std::size_t size = 0;
+  void reserve(std::size_t n)
+  {
+    for (auto* v : {&x0, &x1, &x2, &inverse, &range, &spatial, &distance, &weight})
+      v->resize(n);
+  }
 };
 
-double tukey(double r)
+// Tukey's biweight (1 − r²)² for |r| < 1, else 0, without a branch.
+inline double tukey(double r)
 {
-  if (std::abs(r) >= 1.0)
-    return 0.0;
-  const double t = 1.0 - r * r;
+  const double t = 1.0 - std::min(r * r, 1.0);
   return t * t;
+}
+
+// The basis coordinates (u·u_c, u·e1/s, u·e2/s) of every window offset (db, dc) about a pixel of
+// beam b, e1 = u_c × z: a turn about the spin axis carries them along, so they depend on the beams
+// and the column offset only, not on the column. Indexed [b][db + B][dc + R].
+std::vector<Eigen::Vector3d> windowCoordinates(const SpinningSensorModel& m, int R, int B)
+{
+  const std::size_t H = m.height, span = std::size_t(2 * B + 1) * std::size_t(2 * R + 1);
+  const double step = std::abs(m.azimuth_step);
+  const auto direction = [&](std::size_t b, double column) {
+    const double a = m.azimuth_start + column * m.azimuth_step + m.azimuth_offset[b], e = m.elevation[b];
+    return Eigen::Vector3d(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
+  };
+  std::vector<Eigen::Vector3d> table(H * span, Eigen::Vector3d::Zero());
+  for (std::size_t b = 0; b < H; ++b) {
+    const Eigen::Vector3d u = direction(b, 0.0);
+    const detail::RayBasis basis(u, step);
+    for (int db = -B; db <= B; ++db) {
+      if ((db < 0 && b < std::size_t(-db)) || b + db >= H)
+        continue;
+      for (int dc = -R; dc <= R; ++dc)
+        table[b * span + std::size_t((db + B) * (2 * R + 1) + dc + R)] =
+            basis.coordinates(direction(b + db, static_cast<double>(dc)));
+    }
+  }
+  return table;
 }
 
 // The new range of pixel i, or NaN when it keeps its own (too few neighbours, degenerate plane).
 double denoisePixel(const RangeImage& image, const RangeDenoisingParameters& p, const std::vector<double>& spatial,
-                    double sigma, std::size_t i, std::vector<Neighbour>& window)
+                    const std::vector<double>& distance, const std::vector<Eigen::Vector3d>& coordinates,
+                    double sigma, std::size_t i, Window& window)
 {
   const std::size_t W = image.width, H = image.height;
   const std::size_t b = i / W, c = i % W;
   const double r0 = image.range[i], step = std::abs(image.model.azimuth_step);
-  const detail::RayBasis basis(image.direction[i], step);
-  window.clear();
   const int R = p.column_radius, B = p.beam_radius;
+  const std::size_t span = std::size_t(2 * B + 1) * std::size_t(2 * R + 1);
+  std::size_t n = 0;
   for (int db = -B; db <= B; ++db) {
     if ((db < 0 && b < std::size_t(-db)) || b + db >= H)
       continue;
@@ -49,33 +81,53 @@ double denoisePixel(const RangeImage& image, const RangeDenoisingParameters& p, 
       const std::size_t j = (b + db) * W + (c + W + dc) % W;
       if (!image.valid[j])
         continue;
-      const double range = image.range[j];
-      window.push_back({basis.coordinates(image.direction[j]), 1.0 / range, range,
-                        spatial[std::size_t((db + B) * (2 * R + 1) + (dc + R))], std::hypot(double(dc), double(db))});
+      const std::size_t k = std::size_t((db + B) * (2 * R + 1) + (dc + R));
+      const Eigen::Vector3d& x = coordinates[b * span + k];
+      window.x0[n] = x(0);
+      window.x1[n] = x(1);
+      window.x2[n] = x(2);
+      window.range[n] = image.range[j];
+      window.spatial[n] = spatial[k];
+      window.distance[n] = distance[k];
+      ++n;
     }
   }
-  const double band = p.range_sigmas * sigma;
+  // 1/ρ's noise is σ/ρ²: weights in ρ⁴, relative to the centre's (folded into the spatial weight).
+  const double inverse_r0 = 1.0 / r0;
+  for (std::size_t q = 0; q < n; ++q) {
+    window.inverse[q] = 1.0 / window.range[q];
+    const double scale = window.range[q] * inverse_r0;
+    window.spatial[q] *= scale * scale * scale * scale;
+  }
+  const double band = p.range_sigmas * sigma, inverse_band = 1.0 / band;
+  const double slope = p.slope_allowance * r0 * step;
   Eigen::Vector3d w = Eigen::Vector3d::Zero();
   bool have = false;
   for (int pass = 0; pass <= p.refinements; ++pass) {
+    if (pass == 0)
+      for (std::size_t q = 0; q < n; ++q)
+        window.weight[q] = window.spatial[q] * tukey((window.range[q] - r0) / (band + slope * window.distance[q]));
+    else
+      for (std::size_t q = 0; q < n; ++q) {
+        const double plane_inverse = w(0) * window.x0[q] + w(1) * window.x1[q] + w(2) * window.x2[q];
+        const double predicted = 1.0 / std::max(plane_inverse, 1e-300);
+        window.weight[q] = window.spatial[q] * tukey((window.range[q] - predicted) * inverse_band);
+      }
     detail::InverseRangePlane plane;
     int supported = 0;
-    for (const Neighbour& q : window) {
-      double weight;
-      if (pass == 0) {
-        const double allowed = band + p.slope_allowance * q.distance * r0 * step;
-        weight = tukey((q.range - r0) / allowed);
-      } else {
-        const double predicted = 1.0 / w.dot(q.x);
-        weight = predicted > 0.0 ? tukey((q.range - predicted) / band) : 0.0;
-      }
-      weight *= q.spatial;
-      if (weight <= 0.0)
-        continue;
-      // 1/ρ's noise is σ/ρ²: weights in ρ⁴, relative to the centre's.
-      const double scale = q.range / r0;
-      plane.add(q.x, q.inverse, weight * scale * scale * scale * scale);
-      ++supported;
+    for (std::size_t q = 0; q < n; ++q) {
+      const double v = window.weight[q];
+      const double wx0 = v * window.x0[q], wx1 = v * window.x1[q], wx2 = v * window.x2[q];
+      plane.a00 += wx0 * window.x0[q];
+      plane.a01 += wx0 * window.x1[q];
+      plane.a02 += wx0 * window.x2[q];
+      plane.a11 += wx1 * window.x1[q];
+      plane.a12 += wx1 * window.x2[q];
+      plane.a22 += wx2 * window.x2[q];
+      plane.b0 += wx0 * window.inverse[q];
+      plane.b1 += wx1 * window.inverse[q];
+      plane.b2 += wx2 * window.inverse[q];
+      supported += v > 0.0 ? 1 : 0;
     }
     if (supported < p.min_neighbours + 1 || !plane.solve(w) || !(w(0) > 0.0))
       return have ? 1.0 / w(0) : std::numeric_limits<double>::quiet_NaN();
@@ -98,21 +150,25 @@ void denoiseRangeImage(const RangeImage& image, const RangeNoiseModel& noise, co
     throw Error("range denoising parameters out of range");
   const std::size_t n = image.width * image.height;
   // Separable Gaussian spatial weights over the window.
-  std::vector<double> spatial;
+  std::vector<double> spatial, distance;
   for (int db = -p.beam_radius; db <= p.beam_radius; ++db)
     for (int dc = -p.column_radius; dc <= p.column_radius; ++dc) {
+      distance.push_back(std::sqrt(double(db * db + dc * dc)));
       const double sb = p.spatial_sigma * std::max(1, p.beam_radius), sc = p.spatial_sigma * std::max(1, p.column_radius);
       spatial.push_back(std::exp(-0.5 * (db * db / (sb * sb) + dc * dc / (sc * sc))));
     }
+  const std::vector<Eigen::Vector3d> coordinates = windowCoordinates(image.model, p.column_radius, p.beam_radius);
   const std::vector<double> nearest = nearestMeasuredRange(image);
   const OriginFreeSpace from_origin(image);
   range_out.assign(n, std::numeric_limits<double>::quiet_NaN());
   std::vector<char> state(n, 0);  // 0 kept, 1 moved, 2 clamped to σ, 3 clamped at free space
+  std::vector<double> sigmas(n, 0.0);
   const long long rows = static_cast<long long>(image.height);
   const int threads = p.num_threads > 0 ? p.num_threads : omp_get_max_threads();
 #pragma omp parallel num_threads(threads)
   {
-    std::vector<Neighbour> window;
+    Window window;
+    window.reserve(spatial.size());
 #pragma omp for schedule(static)
     for (long long b = 0; b < rows; ++b)
       for (std::size_t c = 0; c < image.width; ++c) {
@@ -120,7 +176,8 @@ void denoiseRangeImage(const RangeImage& image, const RangeNoiseModel& noise, co
         if (!image.valid[i])
           continue;
         const double r0 = image.range[i], sigma = noise.sigma(r0);
-        double r = denoisePixel(image, p, spatial, sigma, i, window);
+        sigmas[i] = sigma;
+        double r = denoisePixel(image, p, spatial, distance, coordinates, sigma, i, window);
         range_out[i] = r0;
         if (!std::isfinite(r) || !(r > 0.0))
           continue;
@@ -136,8 +193,8 @@ void denoiseRangeImage(const RangeImage& image, const RangeNoiseModel& noise, co
         }
         // Seen from the origin, a point that already lies where the beams crossed (near the sensor,
         // where the beam origins' offset matters) stays as measured; none is moved there.
-        if ((r < r0 || from_origin.violates(image.model.pointAt(std::size_t(b), c, r0), i)) &&
-            from_origin.violates(image.model.pointAt(std::size_t(b), c, r), i)) {
+        if (r != r0 && (r < r0 || from_origin.violates(image.pointAt(i, r0), i)) &&
+            from_origin.violates(image.pointAt(i, r), i)) {
           r = r0;
           how = 3;
         }
@@ -158,7 +215,7 @@ void denoiseRangeImage(const RangeImage& image, const RangeNoiseModel& noise, co
     ++report.moved;
     report.clamped += state[i] == 2 ? 1 : 0;
     report.free_space_clamped += state[i] == 3 ? 1 : 0;
-    const double shift = (range_out[i] - image.range[i]) / noise.sigma(image.range[i]);
+    const double shift = (range_out[i] - image.range[i]) / sigmas[i];
     squares += shift * shift;
   }
   report.rms_shift_sigmas = report.moved ? std::sqrt(squares / double(report.moved)) : 0.0;

@@ -101,6 +101,18 @@ void ringAround(const RangeImage& image, const Grid& grid, const Region& region,
   }
 }
 
+// The rim's ranges span at most `spread` of their median.
+bool narrowRim(const RangeImage& image, const std::vector<std::size_t>& rim, double spread)
+{
+  std::vector<double> ranges;
+  for (const std::size_t j : rim)
+    ranges.push_back(image.range[j]);
+  const auto extremes = std::minmax_element(ranges.begin(), ranges.end());
+  const double width = *extremes.second - *extremes.first;
+  std::nth_element(ranges.begin(), ranges.begin() + std::ptrdiff_t(ranges.size() / 2), ranges.end());
+  return width <= spread * ranges[ranges.size() / 2];
+}
+
 double tukey(double r)
 {
   if (std::abs(r) >= 1.0)
@@ -140,18 +152,22 @@ void fillRangeImageHoles(const RangeImage& image, const RangeNoiseModel& noise, 
       ++report.too_large;
       continue;
     }
-    const int radius = static_cast<int>(std::lround(std::sqrt(double(region.pixels.size()) / 3.14159265)));
+    // One surface: the rim continuous, its ranges within rim_spread of their median (a range
+    // discontinuity — an object before a wall, sky — spreads it far more). Tested on the rim alone
+    // first: most regions of a frame fail it, and cheaply.
     std::size_t rim_size = 0;
-    ringAround(image, grid, region, p.fit_ring > 0 ? p.fit_ring : std::clamp(radius, 2, 6), ring, rim_size, mark,
-               static_cast<int>(k));
-    if (rim_size < 3) {
+    ringAround(image, grid, region, 1, ring, rim_size, mark, static_cast<int>(k));
+    if (rim_size < 3 || !narrowRim(image, ring, p.rim_spread)) {
       ++report.not_one_surface;
       continue;
     }
+    const int radius = static_cast<int>(std::lround(std::sqrt(double(region.pixels.size()) / 3.14159265)));
+    ringAround(image, grid, region, p.fit_ring > 0 ? p.fit_ring : std::clamp(radius, 2, 6), ring, rim_size, mark,
+               static_cast<int>(k) + static_cast<int>(regions.size()));
     // The plane of the ring, about the region's mean ray.
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();
     for (const std::size_t i : region.pixels)
-      centre += image.direction[i];
+      centre += image.direction(i);
     const detail::RayBasis basis(centre.normalized(), step);
     double reference = 0.0;
     for (std::size_t q = 0; q < rim_size; ++q)
@@ -162,7 +178,7 @@ void fillRangeImageHoles(const RangeImage& image, const RangeNoiseModel& noise, 
       detail::InverseRangePlane plane;
       for (const std::size_t j : ring) {
         const double r = image.range[j], s = noise.sigma(r) > 0.0 ? noise.sigma(r) : 0.01 * r;
-        const Eigen::Vector3d x = basis.coordinates(image.direction[j]);
+        const Eigen::Vector3d x = basis.coordinates(image.direction(j));
         double weight = (r / reference) * (r / reference) * (r / reference) * (r / reference) / (s * s);
         if (pass > 0)
           weight *= tukey((r - 1.0 / w.dot(x)) / (2.0 * tau(r)));
@@ -173,18 +189,10 @@ void fillRangeImageHoles(const RangeImage& image, const RangeNoiseModel& noise, 
       if (!fitted)
         break;
     }
-    // One surface: the rim continuous, its ranges within rim_spread of their median (a range
-    // discontinuity — an object before a wall, sky — spreads it far more), and a plane through it.
-    std::vector<double> rim_ranges;
-    for (std::size_t q = 0; q < rim_size; ++q)
-      rim_ranges.push_back(image.range[ring[q]]);
-    const auto extremes = std::minmax_element(rim_ranges.begin(), rim_ranges.end());
-    const double spread = *extremes.second - *extremes.first;
-    std::nth_element(rim_ranges.begin(), rim_ranges.begin() + std::ptrdiff_t(rim_size / 2), rim_ranges.end());
-    bool one_surface = fitted && spread <= p.rim_spread * rim_ranges[rim_size / 2];
+    bool one_surface = fitted;  // and a plane through the ring
     std::vector<double> misfit(rim_size, 0.0);
     for (std::size_t q = 0; q < rim_size && one_surface; ++q) {
-      const double predicted = 1.0 / w.dot(basis.coordinates(image.direction[ring[q]]));
+      const double predicted = 1.0 / w.dot(basis.coordinates(image.direction(ring[q])));
       misfit[q] = image.range[ring[q]] - predicted;
       one_surface = predicted > 0.0;
     }
@@ -204,7 +212,7 @@ void fillRangeImageHoles(const RangeImage& image, const RangeNoiseModel& noise, 
       std::vector<Eigen::Vector3d> rim_points;
       for (std::size_t q = 0; q < rim_size; ++q) {
         const std::size_t j = ring[q];
-        rim_points.push_back(image.model.pointAt(j / image.width, j % image.width, image.range[j]));
+        rim_points.push_back(image.pointAt(j, image.range[j]));
         mean += rim_points.back() / double(rim_size);
       }
       double widest = 0.0;
@@ -244,14 +252,14 @@ void fillRangeImageHoles(const RangeImage& image, const RangeNoiseModel& noise, 
     for (std::size_t q = 0; q < m; ++q) {
       const std::size_t i = region.pixels[q];
       mark[i] = static_cast<int>(k);
-      double r = 1.0 / w.dot(basis.coordinates(image.direction[i])) + correction(Eigen::Index(q));
+      double r = 1.0 / w.dot(basis.coordinates(image.direction(i))) + correction(Eigen::Index(q));
       if (!(r > 0.0) || !std::isfinite(r))
         continue;
       if (std::isfinite(nearest[i]) && r < nearest[i]) {
         r = nearest[i];
         ++report.free_space_clamped;
       }
-      if (from_origin.violates(image.model.pointAt(i / image.width, i % image.width, r), i)) {
+      if (from_origin.violates(image.pointAt(i, r), i)) {
         ++report.free_space_dropped;
         continue;
       }

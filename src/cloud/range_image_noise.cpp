@@ -81,8 +81,7 @@ RangeNoiseModel estimateRangeNoise(const RangeImage& image, std::size_t stride)
       if (used < 5 || !plane.solve(w) || !(w(0) > 0.0))
         continue;
       // Leverage of the centre's prediction: x0ᵀ A⁻¹ x0 with x0 = (1, 0, 0).
-      const Eigen::Matrix3d full = plane.A.selfadjointView<Eigen::Lower>();
-      const double leverage = full.inverse()(0, 0);
+      const double leverage = plane.centreLeverage();
       residuals.push_back((r0 - 1.0 / w(0)) / std::sqrt(1.0 + leverage));
       ranges.push_back(r0);
     }

@@ -245,6 +245,7 @@ public:
   {
     sensor_model_ = model;
     has_sensor_model_ = model.kind != SensorModel::Kind::None;
+    rays_ = model.kind == SensorModel::Kind::Spinning && model.spinning.valid ? spinningRays(model.spinning) : nullptr;
   }
   void clearSensorModel() { has_sensor_model_ = false; }
   /** The sensor model of the last organised input processed (given, or estimated from it); kind None
@@ -322,6 +323,7 @@ private:
   bool has_viewpoint_ = false;
   bool keep_organized_ = true;
   SensorModel sensor_model_, used_sensor_model_;
+  std::shared_ptr<const SpinningRays> rays_;  // the given spinning model's rays, computed once
   bool has_sensor_model_ = false;
   RangeFillParameters range_fill_;
   RangeDenoisingParameters range_denoising_;

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -54,14 +55,27 @@ struct SpinningSensorModel {
   double beamGap() const;
 };
 
+/** Every pixel's ray of a model: its direction and its beam's origin (row-major). */
+struct SpinningRays {
+  std::vector<Eigen::Vector3d> direction, origin;
+};
+
+/** The rays of a model, by angle addition over a table of the columns' and the beams' angles;
+  * a stream's frames share them. */
+std::shared_ptr<const SpinningRays> spinningRays(const SpinningSensorModel& model);
+
 /** The measured ranges of an organised cloud on its sensor's rays. */
 struct RangeImage {
   std::size_t width = 0, height = 0;
   SpinningSensorModel model;
   std::vector<double> range;   ///< along the pixel's ray from its beam origin; NaN where no measurement
   std::vector<char> valid;     ///< 1 where range is a measurement on the pixel's ray
-  std::vector<Eigen::Vector3d> direction;  ///< every pixel's ray direction (the model's)
+  std::shared_ptr<const SpinningRays> rays;  ///< the model's rays (shared, not copied, with the image)
   std::size_t measured() const;
+  const Eigen::Vector3d& direction(std::size_t i) const { return rays->direction[i]; }
+  const Eigen::Vector3d& rayOrigin(std::size_t i) const { return rays->origin[i]; }
+  /** The point at range r on pixel i's ray. */
+  Eigen::Vector3d pointAt(std::size_t i, double r) const { return rays->origin[i] + r * rays->direction[i]; }
 };
 
 /** Fits a spinning sensor to an organised grid (points in the sensor's frame, NaN = no return).
@@ -80,6 +94,9 @@ SpinningSensorModel fitSpinningSensor(const std::vector<Eigen::Vector3d>& points
   * model.off_ray). Throws pcl::patchdict::Error when a given model does not fit: another width or
   * height, or more than 10 % of the finite points off their rays (a frame of another sensor). */
 RangeImage makeRangeImage(const std::vector<Eigen::Vector3d>& points, const SpinningSensorModel& model);
+/** The same on the model's rays computed beforehand (spinningRays): a stream computes them once. */
+RangeImage makeRangeImage(const std::vector<Eigen::Vector3d>& points, const SpinningSensorModel& model,
+                          const std::shared_ptr<const SpinningRays>& rays);
 
 /** σ(ρ) = max(coefficient·ρ^exponent, quantum/√12): the noise of range along the ray. A pulsed or
   * phase-measuring LiDAR's noise grows slowly with range; its range is stored in steps (1 mm, or
@@ -113,19 +130,21 @@ std::vector<double> nearestMeasuredRange(const RangeImage& image);
   * (occupancy maps, free-space checks) assume: near the sensor the beam origins' offset turns a
   * point's direction from the origin towards another beam's pixel. A point lies in that space when
   * it is nearer the origin than every measured point of the 3 × 3 pixels around the beam and column
-  * its direction from the origin falls on. */
+  * its direction from the origin falls on, by more than max(spacing_factor × the pixel spacing
+  * there, relative_range × that range) — as FreeSpaceTest judges a depth image. */
 class OriginFreeSpace {
 public:
-  explicit OriginFreeSpace(const RangeImage& image);
-  /** True when p (in the sensor's frame) is nearer the origin than the measured points around the
-    * pixel its direction from the origin falls on, and that pixel is not `own` (its own pixel is
-    * judged by nearestMeasuredRange). */
+  explicit OriginFreeSpace(const RangeImage& image, double spacing_factor = 2.0, double relative_range = 0.008);
+  /** True when p (in the sensor's frame) lies in that space, judged at a pixel other than `own`
+    * (its own pixel is judged by nearestMeasuredRange, strictly). */
   bool violates(const Eigen::Vector3d& p, std::size_t own) const;
 
 private:
   const RangeImage& image_;
   std::vector<double> nearest_;  // 3 × 3 minimum of |point| over measured pixels
   bool descending_ = true;       // elevations fall with the row
+  std::vector<double> tangent_;  // tan of each beam's elevation
+  double spacing_factor_, relative_range_;
 };
 
 }  // namespace patchdict

@@ -10,6 +10,8 @@
 #include <cmath>
 #include <limits>
 #include <type_traits>
+
+#include <omp.h>
 #include <utility>
 
 namespace pcl {
@@ -34,7 +36,7 @@ inline Eigen::Vector3d rangeGridNormal(const DepthRun& run, const RangeImage& im
   const Eigen::Vector3d du = at(right, b) - at(left, b);
   const Eigen::Vector3d dv = at(c, std::min(H - 1, b + 1)) - at(c, b ? b - 1 : 0);
   Eigen::Vector3d normal = du.cross(dv);
-  const Eigen::Vector3d& ray = image.direction[i];
+  const Eigen::Vector3d& ray = image.direction(i);
   normal = normal.norm() > 0.0 ? normal.normalized() : Eigen::Vector3d(-ray);
   return normal.dot(ray) > 0.0 ? Eigen::Vector3d(-normal) : normal;
 }
@@ -108,14 +110,23 @@ bool GeometricCloudInpainter<PointInT, PointOutT>::processOnSensorModel(const de
     const Eigen::Matrix3d R = frames[k] == 0 ? pose_R : Eigen::Matrix3d::Identity();
     const Eigen::Vector3d o = frames[k] == 0 ? pose_o : Eigen::Vector3d::Zero();
     const auto start = std::chrono::steady_clock::now();
-    std::vector<Eigen::Vector3d> local(run.points.size()), local_normals(run.normals.size());
-    for (std::size_t i = 0; i < run.points.size(); ++i)
-      local[i] = R.transpose() * (run.points[i] - o);
-    for (std::size_t i = 0; i < run.normals.size(); ++i)
-      local_normals[i] = R.transpose() * run.normals[i];
+    // The points in the sensor's frame (the cloud's own when it is the sensor's: no copy).
+    std::vector<Eigen::Vector3d> moved_points, local_normals;
+    const bool own_frame = frames[k] == 1;
+    if (!own_frame) {
+      moved_points.resize(run.points.size());
+      for (std::size_t i = 0; i < run.points.size(); ++i)
+        moved_points[i] = R.transpose() * (run.points[i] - o);
+    }
+    const std::vector<Eigen::Vector3d>& local = own_frame ? run.points : moved_points;
+    if (!spinning) {
+      local_normals.resize(run.normals.size());
+      for (std::size_t i = 0; i < run.normals.size(); ++i)
+        local_normals[i] = R.transpose() * run.normals[i];
+    }
     try {
       if (spinning) {
-        const RangeImage image = makeRangeImage(local, model.spinning);
+        const RangeImage image = makeRangeImage(local, model.spinning, rays_);
         report_.seconds_sensor_model = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         report_.sensor_model_given = true;
         processRangeImage(local, image, model.range_noise, R, o, output);
@@ -140,7 +151,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::processRangeImage(const std::
                                                                       const Eigen::Matrix3d& R, const Eigen::Vector3d& o,
                                                                       PointCloudOut& output)
 {
-  const std::size_t W = image.width, n = image.width * image.height;
+  const std::size_t n = image.width * image.height;
   report_.range_image = true;
   report_.spinning = image.model;
   report_.range_noise = noise;
@@ -176,7 +187,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::processRangeImage(const std::
     for (const std::size_t i : run.queries) {
       current.range[i] = ranges[i];
       if (ranges[i] != image.range[i]) {
-        const Eigen::Vector3d origin = image.model.rayOrigin(i / W, i % W);
+        const Eigen::Vector3d& origin = image.rayOrigin(i);
         run.position[i] = origin + (run.measured[i] - origin) * (ranges[i] / image.range[i]);
       }
     }
@@ -192,16 +203,18 @@ void GeometricCloudInpainter<PointInT, PointOutT>::processRangeImage(const std::
     report_.completion.seconds_fill = std::chrono::duration<double>(std::chrono::steady_clock::now() - fill_start).count();
     for (std::size_t k = 0; k < run.filled.size(); ++k) {
       const std::size_t i = run.filled[k];
-      run.position[i] = image.model.pointAt(i / W, i % W, ranges[k]);
+      run.position[i] = image.pointAt(i, ranges[k]);
       run.present[i] = 1;
     }
     report_.points_added = run.filled.size();
     report_.completion.points_added = run.filled.size();
     report_.completion.holes_filled = report_.range_fill.holes_filled;
   }
-  for (std::size_t i = 0; i < n; ++i)
-    if (run.present[i])
-      run.normal[i] = detail::rangeGridNormal(run, image, i);
+  const long long pixels = static_cast<long long>(n);
+#pragma omp parallel for schedule(static) num_threads(parameters_.num_threads > 0 ? parameters_.num_threads : omp_get_max_threads())
+  for (long long i = 0; i < pixels; ++i)
+    if (run.present[std::size_t(i)])
+      run.normal[std::size_t(i)] = detail::rangeGridNormal(run, image, std::size_t(i));
   writeDepthOutput(run, R, o, output);
   interpolateFilledIntensity(run, output);
 }
