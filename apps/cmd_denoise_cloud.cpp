@@ -5,6 +5,7 @@
 #include "cli.h"
 #include "cloud_input.h"
 #include "options.h"
+#include "ring_scan.h"
 
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
@@ -40,7 +41,7 @@ struct CloudRepairLine {
   OrganizedFillParameters organized;
   std::string height_field = "auto";
   std::string patches = "measured";  ///< --patch-decision: measured or always
-  std::string sensor_model;          ///< --sensor-model: the frames' saved sensor model
+  SensorModel sensor_model;          ///< --sensor-model: the frames' saved sensor model (kind None: none)
   /// The bound the report names: the one given, or Poisson's own (CloudHoleCompletion's 0.15 × the
   /// largest side when max_hole_diameter is 0).
   double reportedMaxHoleDiameter() const
@@ -59,6 +60,7 @@ struct CloudRepairResult {
   pcl::Indices filled;   ///< a depth image's filled pixels
   CloudPatchReport patches;  ///< the patch stage of an unorganised fill
   CloudPatchReport denoise_patches;  ///< …and of the denoising
+  bool ring_grid = false;            ///< an unorganised scan repaired on its ring grid
   std::size_t removed() const
   {
     return report.outlier_filter_removed + report.residual_removed + report.unfit_removed;
@@ -99,7 +101,7 @@ CloudRepairLine readCloudRepairLine(const Arguments& args, bool fill)
   }
   line.patches = args.getWord("patch-decision");
   if (args.has("sensor-model"))
-    line.sensor_model = args.get("sensor-model");
+    line.sensor_model = loadSensorModel(args.get("sensor-model"));  // checked before the input is read
   return line;
 }
 
@@ -121,12 +123,15 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
   PatchDictionary::ConstPtr dictionary;
   if (args.has("dict"))
     dictionary = PatchDictionary::load(args.get("dict"));
+  // An unorganised spinning-LiDAR scan with a ring field is repaired on its beams × azimuth grid.
+  RingScan ring_scan;
+  const bool by_ring = readRingScan(input, ring_scan);
   const auto run = [&](auto& inpainter, auto& out) {
     auto& base = inpainter.getGeometricInpainter();
-    inpainter.setInputCloud(cloud);
+    inpainter.setInputCloud(by_ring ? ring_scan.organised : cloud);
     base.setParameters(parameters);
     // An unorganised PCD whose VIEWPOINT is not the default one was seen from there.
-    if (cloud->height <= 1 && input.from_pcd &&
+    if (cloud->height <= 1 && input.from_pcd && !by_ring &&
         (!input.origin.head<3>().isZero() || !input.orientation.isApprox(Eigen::Quaternionf::Identity())))
       base.setViewpoint((input.origin.head<3>().cast<double>() - input.offset).eval());
     inpainter.setMode(static_cast<typename std::decay_t<decltype(inpainter)>::Mode>(static_cast<int>(result.mode)));
@@ -138,8 +143,8 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
     base.setHeightField(line.height_field == "yes"  ? Choice::Always
                         : line.height_field == "no" ? Choice::Never
                                                     : Choice::Auto);
-    if (!line.sensor_model.empty())
-      base.setSensorModel(loadSensorModel(line.sensor_model));
+    if (line.sensor_model.kind != SensorModel::Kind::None)
+      base.setSensorModel(line.sensor_model);
     inpainter.setDictionary(dictionary);
     inpainter.setPatchDecision(args.has("no-patches")                 ? PatchDecision::Never
                                : line.patches == "always" ? PatchDecision::Always
@@ -162,6 +167,15 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
     pcl::PointCloud<pcl::PointXYZ> positions;
     run(inpainter, positions);
     pcl::copyPointCloud(positions, result.denoised);
+  }
+  if (by_ring) {
+    const pcl::PointCloud<pcl::PointNormal> grid = result.denoised;
+    scatterRingRepair(ring_scan, input, grid, result.filled, result.denoised, result.records);
+    result.report.points_added = result.records.size() - cloud->size();
+    result.report.output_points = cloud->size();  // every input point, then the filled pixels
+    result.report.input_points = cloud->size();
+    result.filled.clear();
+    result.ring_grid = true;
   }
   return result;
 }

@@ -3,6 +3,7 @@
 // σ(z) = a·z^p, or a spinning LiDAR's beams and range-noise law (saved with --save-sensor-model).
 #include "cli.h"
 #include "cloud_input.h"
+#include "ring_scan.h"
 
 #include <pcl_patchdict/cloud/depth_image.h>
 #include <pcl_patchdict/cloud/gross_outliers.h>
@@ -110,7 +111,12 @@ int runCloudInfo(const Arguments& args)
   for (std::size_t i = 0; i < first.size(); ++i)
     copies += first[i] != i ? 1 : 0;
   const bool organised = cloud.height > 1;
-  const SensorModel model = organised ? organisedSensorModel(input, points) : SensorModel{};
+  RingScan ring_scan;
+  const bool by_ring = !organised && readRingScan(input, ring_scan);
+  const SensorModel model = organised ? organisedSensorModel(input, points)
+                            : by_ring ? estimateSensorModel(ring_scan.sensor_points, ring_scan.grid.width,
+                                                            ring_scan.grid.height)
+                                      : SensorModel{};
   DepthImage image;
   image.camera = model.camera;
   const DepthNoiseModel& law = model.depth_noise;
@@ -129,6 +135,8 @@ int runCloudInfo(const Arguments& args)
       .add("qx", static_cast<double>(input.orientation.x())).add("qy", static_cast<double>(input.orientation.y()))
       .add("qz", static_cast<double>(input.orientation.z()));
   json.add("viewpoint", viewpoint).add("height_field", height_field);
+  if (by_ring)
+    json.add("ring_grid_points_placed", ring_scan.grid.placed).add("ring_grid_collisions", ring_scan.grid.collisions);
   std::string summary = std::to_string(cloud.size()) + " points, " + std::to_string(finite) + " finite" +
                         (organised ? ", organised " + std::to_string(cloud.width) + " x " + std::to_string(cloud.height)
                                    : ", unorganised") +
@@ -158,6 +166,10 @@ int runCloudInfo(const Arguments& args)
                   law.coefficient, law.exponent, law.exponent_fitted ? "exponent fitted" : "exponent 2 assumed");
     summary += line;
   } else if (model.kind == SensorModel::Kind::Spinning) {
+    if (by_ring)
+      summary += "\n  unorganised, with rings: " + std::to_string(ring_scan.grid.placed) + " points on a " +
+                 std::to_string(ring_scan.grid.width) + " x " + std::to_string(ring_scan.grid.height) + " grid (" +
+                 std::to_string(ring_scan.grid.collisions) + " sharing a pixel)";
     summary += describeSpinning(model, json);
   } else if (organised) {
     summary += "\n  " + model.failure + ": repaired as an unorganised cloud";
@@ -166,7 +178,8 @@ int runCloudInfo(const Arguments& args)
     const std::string out = args.get("save-sensor-model");
     checkOutputPath(out, path);
     if (model.kind == SensorModel::Kind::None)
-      throw Error("no sensor model to save: " + (organised ? model.failure : "the cloud is not organised"));
+      throw Error("no sensor model to save: " +
+                  (organised || by_ring ? model.failure : std::string("the cloud is not organised and has no rings")));
     saveSensorModel(model, out);
     json.add("sensor_model_file", out);
     summary += "\n  sensor model written to " + out;
