@@ -209,6 +209,33 @@ Eigen::Vector2d rayTolerance(const SpinningSensorModel& m)
   return {0.5 * std::abs(m.azimuth_step), m.height > 1 ? 0.5 * m.beamGap() : 0.5 * std::abs(m.azimuth_step)};
 }
 
+// Whether each row's points lie at one elevation (seen from the beam-origin circle), apart from the
+// other rows': the rows are some spinning sensor's beams, whatever their order and columns.
+bool rowsAreBeams(const std::vector<Eigen::Vector3d>& points, const SpinningSensorModel& m)
+{
+  std::vector<double> spreads, levels;
+  for (std::size_t b = 0; b < m.height; ++b) {
+    std::vector<double> offsets;
+    for (std::size_t c = 0; c < m.width; ++c) {
+      const Eigen::Vector3d& p = points[b * m.width + c];
+      const double h = std::hypot(p.x(), p.y()) - m.beam_radius;
+      if (p.allFinite() && h > 0.0)
+        offsets.push_back(std::abs(std::atan2(p.z() - m.beam_height, h) - m.elevation[b]));
+    }
+    if (offsets.size() < 8)
+      continue;
+    spreads.push_back(median(offsets));
+    levels.push_back(m.elevation[b]);
+  }
+  if (levels.size() < 2)
+    return false;
+  std::sort(levels.begin(), levels.end());
+  std::vector<double> gaps;
+  for (std::size_t k = 1; k < levels.size(); ++k)
+    gaps.push_back(levels[k] - levels[k - 1]);
+  return median(spreads) < 0.25 * median(gaps);
+}
+
 }  // namespace
 
 double SpinningSensorModel::beamGap() const
@@ -245,10 +272,11 @@ SpinningSensorModel fitSpinningSensor(const std::vector<Eigen::Vector3d>& points
     return fail("fewer than 16 measured points");
   if (!fitElevations(points, m))
     return fail("no beam has a measured point");
+  m.rows_are_beams = rowsAreBeams(points, m);
   for (std::size_t b = 0; b + 2 < height; ++b)
     if ((m.elevation[b + 1] - m.elevation[b]) * (m.elevation[b + 2] - m.elevation[b + 1]) <= 0.0)
       return fail("the rows' elevations are not monotonic (rows " + std::to_string(b) + "-" + std::to_string(b + 2) +
-                  "): rows are not beams in order");
+                  "): the beams are out of order");
   if (height == 2 && m.elevation[0] == m.elevation[1])
     return fail("two rows at one elevation: rows are not beams");
   if (!fitAzimuths(points, m))

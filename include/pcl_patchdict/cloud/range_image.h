@@ -29,6 +29,10 @@ struct SpinningSensorModel {
   double beam_radius = 0.0, beam_height = 0.0;
   bool wraps = false;   ///< the columns make a whole turn: column W−1 neighbours column 0
   bool valid = false;   ///< the grid was fitted and is a spinning sensor's
+  /// Each row's points lie at one elevation, apart from the other rows': the rows are a spinning
+  /// sensor's beams even when the grid cannot be used as one (rows out of order, columns that are
+  /// no azimuth steps). Such a grid is refused rather than repaired as something else.
+  bool rows_are_beams = false;
   std::string failure;  ///< why not, in one line, when !valid
   double rms_radians = 0.0;   ///< RMS angle between the points used and their pixels' rays
   std::size_t off_ray = 0;    ///< finite points farther than half a step from their pixel's ray

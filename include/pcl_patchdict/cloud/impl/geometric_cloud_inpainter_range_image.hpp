@@ -74,6 +74,8 @@ bool GeometricCloudInpainter<PointInT, PointOutT>::processAsRangeImage(const det
     for (std::size_t i = 0; i < run.points.size(); ++i)
       local[i] = R.transpose() * (run.points[i] - o);
     const SpinningSensorModel model = fitSpinningSensor(local, input.width, input.height);
+    if (!model.valid && model.rows_are_beams)
+      throw Error("the cloud's rows are a spinning LiDAR's beams, but its grid is not one: " + model.failure);
     if (!model.valid) {
       failure = model.failure;
       continue;
@@ -83,6 +85,16 @@ bool GeometricCloudInpainter<PointInT, PointOutT>::processAsRangeImage(const det
     report_.seconds_sensor_model = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     processRangeImage(local, image, noise, R, o, output);
     return true;
+  }
+  // A spinning sensor's grid written with its beams as columns would be repaired as something else.
+  if (input.width > 1 && input.height > 1) {
+    std::vector<Eigen::Vector3d> transposed(run.points.size());
+    for (std::size_t r = 0; r < input.height; ++r)
+      for (std::size_t c = 0; c < input.width; ++c)
+        transposed[c * input.height + r] = run.points[r * input.width + c];
+    const SpinningSensorModel model = fitSpinningSensor(transposed, input.height, input.width);
+    if (model.valid || model.rows_are_beams)
+      throw Error("the cloud's columns are a spinning LiDAR's beams: its grid is transposed (rows must be beams)");
   }
   used_sensor_model_.failure = failure;
   return false;
