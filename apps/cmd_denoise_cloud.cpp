@@ -437,8 +437,7 @@ JsonObject rangeImageJson(const CloudRepairResult& result, bool fill)
     JsonObject holes;
     holes.add("regions", f.regions).add("filled", f.holes_filled).add("touching_border", f.touching_border)
         .add("too_large", f.too_large).add("not_one_surface", f.not_one_surface)
-        .add("grazing", f.grazing).add("pixels_filled", f.pixels_filled).add("free_space_clamped", f.free_space_clamped)
-        .add("free_space_dropped", f.free_space_dropped).add("seconds", report.completion.seconds_fill);
+        .add("grazing", f.grazing).add("pixels_filled", f.pixels_filled).add("free_space_dropped", f.free_space_dropped).add("seconds", report.completion.seconds_fill);
     image.add("holes", holes);
   }
   return image;

@@ -174,6 +174,8 @@ bool fitAzimuths(const std::vector<Eigen::Vector3d>& points, SpinningSensorModel
   if (!(std::abs(m.azimuth_step) > 1e-9) || std::abs(m.azimuth_step) * double(W) > 2.0 * kPi * 1.05)
     return false;
   m.wraps = std::abs(std::abs(m.azimuth_step) * double(W) - 2.0 * kPi) <= std::abs(m.azimuth_step);
+  if (m.wraps)  // a whole turn: the step is exactly 2π / W (the median's error would add up over W columns)
+    m.azimuth_step = std::copysign(2.0 * kPi / double(W), m.azimuth_step);
   std::vector<double> beam_start(H, kNaN), all;
   for (std::size_t b = 0; b < H; ++b) {
     std::vector<double> a;

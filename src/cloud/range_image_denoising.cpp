@@ -146,7 +146,8 @@ void denoiseRangeImage(const RangeImage& image, const RangeNoiseModel& noise, co
     throw Error("range denoising needs a noise law (none could be estimated from this frame)");
   const RangeDenoisingParameters& p = parameters;
   if (p.column_radius < 0 || p.beam_radius < 0 || p.column_radius > 64 || p.beam_radius > 16 ||
-      !(p.range_sigmas > 0.0) || !(p.spatial_sigma > 0.0) || p.refinements < 0 || p.min_neighbours < 3)
+      !(p.range_sigmas > 0.0) || !(p.spatial_sigma > 0.0) || p.refinements < 0 || p.min_neighbours < 3 ||
+      !(p.free_space_spacing >= 0.0) || !(p.free_space_relative >= 0.0))
     throw Error("range denoising parameters out of range");
   const std::size_t n = image.width * image.height;
   // Separable Gaussian spatial weights over the window.
@@ -159,7 +160,7 @@ void denoiseRangeImage(const RangeImage& image, const RangeNoiseModel& noise, co
     }
   const std::vector<Eigen::Vector3d> coordinates = windowCoordinates(image.model, p.column_radius, p.beam_radius);
   const std::vector<double> nearest = nearestMeasuredRange(image);
-  const OriginFreeSpace from_origin(image);
+  const OriginFreeSpace from_origin(image, p.free_space_spacing, p.free_space_relative);
   range_out.assign(n, std::numeric_limits<double>::quiet_NaN());
   std::vector<char> state(n, 0);  // 0 kept, 1 moved, 2 clamped to σ, 3 clamped at free space
   std::vector<double> sigmas(n, 0.0);
@@ -187,8 +188,10 @@ void denoiseRangeImage(const RangeImage& image, const RangeNoiseModel& noise, co
           r = r0 + std::copysign(limit, r - r0);
           how = 2;
         }
-        if (r < r0 && std::isfinite(nearest[i]) && r < nearest[i]) {
-          r = std::max(std::min(r0, nearest[i]), r);
+        const double least = freeSpaceBound(nearest[i], image.model.azimuth_step, p.free_space_spacing,
+                                            p.free_space_relative);
+        if (r < r0 && r < least) {
+          r = std::min(r0, least);
           how = 3;
         }
         // Seen from the origin, a point that already lies where the beams crossed (near the sensor,

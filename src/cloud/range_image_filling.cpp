@@ -129,12 +129,13 @@ void fillRangeImageHoles(const RangeImage& image, const RangeNoiseModel& noise, 
   const RangeFillParameters& p = parameters;
   if (p.max_hole_pixels == 0 || !(p.max_hole_diameter >= 0.0) || !(p.rim_noise_factor > 0.0) ||
       !(p.rim_relative_range >= 0.0) || !(p.rim_spread > 0.0) || !(p.max_incidence_degrees > 0.0) ||
-      !(p.max_incidence_degrees <= 90.0) || p.fit_ring < 0 || p.fit_ring > 64)
+      !(p.max_incidence_degrees <= 90.0) || p.fit_ring < 0 || p.fit_ring > 64 || !(p.free_space_spacing >= 0.0) ||
+      !(p.free_space_relative >= 0.0))
     throw Error("range fill parameters out of range");
   const Grid grid{image.width, image.height, image.model.wraps};
   const double step = std::abs(image.model.azimuth_step);
   const std::vector<double> nearest = nearestMeasuredRange(image);
-  const OriginFreeSpace from_origin(image);
+  const OriginFreeSpace from_origin(image, p.free_space_spacing, p.free_space_relative);
   std::vector<int> mark(image.width * image.height, -1);
   std::vector<std::size_t> ring;
   std::vector<double> rim_misfit(image.width * image.height, 0.0);  // set on each region's rim in turn
@@ -255,11 +256,9 @@ void fillRangeImageHoles(const RangeImage& image, const RangeNoiseModel& noise, 
       double r = 1.0 / w.dot(basis.coordinates(image.direction(i))) + correction(Eigen::Index(q));
       if (!(r > 0.0) || !std::isfinite(r))
         continue;
-      if (std::isfinite(nearest[i]) && r < nearest[i]) {
-        r = nearest[i];
-        ++report.free_space_clamped;
-      }
-      if (from_origin.violates(image.pointAt(i, r), i)) {
+      // A fill the beams contradict is left open, not pushed off its surface to where they allow.
+      const double least = freeSpaceBound(nearest[i], image.model.azimuth_step, p.free_space_spacing, p.free_space_relative);
+      if (r < least || from_origin.violates(image.pointAt(i, r), i)) {
         ++report.free_space_dropped;
         continue;
       }

@@ -4,8 +4,10 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -129,6 +131,16 @@ RangeNoiseModel estimateRangeNoise(const RangeImage& image, std::size_t stride =
   * (azimuth wrapping when the model wraps; beams do not; infinity where none is measured). A point
   * placed, or moved, on pixel i's ray nearer than that would be in space the beams crossed. */
 std::vector<double> nearestMeasuredRange(const RangeImage& image);
+
+/** The least range a point may take on a pixel whose neighbours' nearest measured range is
+  * `nearest`: nearest − max(spacing_factor × nearest × |azimuth step|, relative_range × nearest)
+  * (−∞ where nothing is measured around it). */
+inline double freeSpaceBound(double nearest, double azimuth_step, double spacing_factor, double relative_range)
+{
+  if (!std::isfinite(nearest))
+    return -std::numeric_limits<double>::infinity();
+  return nearest - std::max(spacing_factor * nearest * std::abs(azimuth_step), relative_range * nearest);
+}
 
 /** The same space as seen from the sensor's origin, the single viewpoint that ray-casting tools
   * (occupancy maps, free-space checks) assume: near the sensor the beam origins' offset turns a

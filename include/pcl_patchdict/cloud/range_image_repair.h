@@ -30,6 +30,12 @@ struct RangeFillParameters {
   /// Pixels of the ring the plane is fitted to, outward from the region (0: the region's radius in
   /// pixels, clamped to 2…6).
   int fit_ring = 0;
+  /// A fill is never nearer than the nearest range its 8 neighbours measured by more than
+  /// max(free_space_spacing × the pixel spacing there, free_space_relative × that range), as a depth
+  /// image's (OrganizedFillParameters): a surface that recedes along the beams (the ground) has its
+  /// truth nearer than the beam above measured, but not by more.
+  double free_space_spacing = 2.0;
+  double free_space_relative = 0.008;
 };
 
 struct RangeFillReport {
@@ -40,8 +46,9 @@ struct RangeFillReport {
   std::size_t not_one_surface = 0;  ///< rims across a range discontinuity
   std::size_t grazing = 0;          ///< rims on one surface seen beyond max_incidence_degrees
   std::size_t pixels_filled = 0;
-  std::size_t free_space_clamped = 0;  ///< fills pushed back to the nearest range the beams measured
-  std::size_t free_space_dropped = 0;  ///< fills left open: seen from the origin, in space the beams crossed
+  /// Fills left open: nearer than their neighbours measured (beyond the tolerance), or, seen from
+  /// the origin, in space the beams crossed.
+  std::size_t free_space_dropped = 0;
 };
 
 /** Fills the enclosed dropouts of a range image: 4-connected regions without a return that touch
@@ -49,9 +56,9 @@ struct RangeFillReport {
   * surface (rim_spread) seen at no more than max_incidence_degrees. Each is filled with the plane
   * through the ring around it (1/ρ linear in the ray direction, weighted by 1/σ² of 1/ρ, then
   * Tukey-reweighted twice) plus the plane's misfit at the rim interpolated harmonically inward,
-  * evaluated on each pixel's own ray; never nearer than the measured ranges of its 8 neighbours, and
-  * left open where, seen from the sensor's origin, it would lie in space the beams crossed
-  * (OriginFreeSpace). Appends, per filled pixel
+  * evaluated on each pixel's own ray. A pixel whose fill would lie nearer than its 8 neighbours
+  * measured (beyond the free-space tolerance), or, seen from the sensor's origin, in space the beams
+  * crossed (OriginFreeSpace), is left open. Appends, per filled pixel
   * in row-major order, its index and its range. Deterministic. */
 void fillRangeImageHoles(const RangeImage& image, const RangeNoiseModel& noise, const RangeFillParameters& parameters,
                          std::vector<std::size_t>& pixels, std::vector<double>& ranges, RangeFillReport& report);
@@ -70,6 +77,10 @@ struct RangeDenoisingParameters {
   int refinements = 1;            ///< robust passes after the first, each about the last plane
   int min_neighbours = 4;         ///< fewer weighted neighbours: the pixel keeps its range
   double max_shift_sigmas = 4.0;  ///< the move along the ray is clamped to this × σ(ρ)
+  /// No move brings a point nearer than the nearest range its 8 neighbours measured by more than
+  /// max(free_space_spacing × the pixel spacing, free_space_relative × that range).
+  double free_space_spacing = 2.0;
+  double free_space_relative = 0.008;
   int num_threads = 0;            ///< 0: OpenMP's default; the result does not depend on it
 };
 
@@ -85,7 +96,8 @@ struct RangeDenoisingReport {
   * over the ray directions of its window (local linear regression with a bilateral range kernel, as
   * denoiseDepthImage does for pinhole images), evaluated on the pixel's own ray; the move is clamped
   * to ±max_shift_sigmas·σ(ρ), and never brings the point nearer the sensor than the smallest range its
-  * 8 neighbours measured, nor, seen from the origin, into space the beams crossed (OriginFreeSpace). range_out: NaN where the input has none. Throws Error when the noise model
+  * 8 neighbours measured (beyond the free-space tolerance), nor, seen from the origin, into space
+  * the beams crossed (OriginFreeSpace). range_out: NaN where the input has none. Throws Error when the noise model
   * has no coefficient. */
 void denoiseRangeImage(const RangeImage& image, const RangeNoiseModel& noise, const RangeDenoisingParameters& parameters,
                        std::vector<double>& range_out, RangeDenoisingReport& report);
