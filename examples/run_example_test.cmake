@@ -1,6 +1,6 @@
 # Runs one example on an input made at test time and checks its output (cmake -P; see CMakeLists.txt).
-# -DCASE=cloud_pipeline|mesh_repair|organized_frame_pipeline|patch_features -DEXAMPLE=...
-# -DMAKE_INPUTS=... -DTOOL=pcl_patchdict -DMESH=bunny.obj -DFRAME=frame.pcd -DWORK_DIR=...
+# -DCASE=cloud_pipeline|mesh_repair|organized_frame_pipeline|lidar_frame_pipeline|patch_features -DEXAMPLE=...
+# -DMAKE_INPUTS=... -DTOOL=pcl_patchdict -DMESH=bunny.obj -DFRAME=frame.pcd -DLIDAR=ouster.pcd -DWORK_DIR=...
 cmake_minimum_required(VERSION 3.16)
 foreach(var CASE EXAMPLE MAKE_INPUTS TOOL MESH WORK_DIR)
   if(NOT DEFINED ${var})
@@ -58,6 +58,22 @@ elseif(CASE STREQUAL "organized_frame_pipeline")
   require("normals on more pixels after (${CMAKE_MATCH_3} > ${CMAKE_MATCH_2})" CMAKE_MATCH_3 GREATER CMAKE_MATCH_2)
   run("info ${output}" json "${TOOL}" info "${output}" --json)
   require("info reads the repaired frame" json MATCHES "\"height\": 240")
+elseif(CASE STREQUAL "lidar_frame_pipeline")
+  # The bundled Ouster frame twice (the second on the first's model), then a Kinect frame (refused).
+  set(output "${WORK_DIR}/lidar_repaired.pcd")
+  run("${CASE}" said "${EXAMPLE}" "${output}" "${LIDAR}" "${LIDAR}" "${FRAME}")
+  require("output ${output} exists" EXISTS "${output}")
+  require("the sensor is found" said MATCHES "sensor: 32 beams x 1024 columns")
+  require("the second frame reuses the model" said MATCHES "model reused")
+  require("the Kinect frame is refused" said MATCHES "kinect_desk_qvga.pcd: refused")
+  if(NOT said MATCHES "1024 x 32 frame in [0-9.]+ ms \\(model estimated\\): ([0-9]+) points moved along their rays, ([0-9]+) dropouts")
+    message(FATAL_ERROR "unexpected report: ${said}")
+  endif()
+  require("points were denoised (${CMAKE_MATCH_1})" CMAKE_MATCH_1 GREATER 20000)
+  require("dropouts were filled (${CMAKE_MATCH_2})" CMAKE_MATCH_2 GREATER 10)
+  run("info ${output}" json "${TOOL}" info "${output}" --json)
+  require("the grid is kept" json MATCHES "\"width\": 1024, \"height\": 32")
+  require("info sees a spinning LiDAR in the output" json MATCHES "\"kind\": \"spinning\"")
 elseif(CASE STREQUAL "mesh_repair")
   set(input "${WORK_DIR}/holed_bunny.ply")
   set(output "${WORK_DIR}/repaired_bunny.ply")
