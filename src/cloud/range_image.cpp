@@ -464,12 +464,20 @@ OriginFreeSpace::OriginFreeSpace(const RangeImage& image, double spacing_factor,
   descending_ = H < 2 || image.model.elevation[0] > image.model.elevation[H - 1];
   for (const double e : image.model.elevation)
     tangent_.push_back(std::tan(e));
+  // The offset |o| turns a point's direction from the origin by at most asin(|o| / |p|) from its ray.
+  const double offset = std::hypot(image.model.beam_radius, image.model.beam_height);
+  const double half_step = 0.5 * std::min(std::abs(image.model.azimuth_step), H > 1 ? image.model.beamGap() : 1.0);
+  const double far = offset > 0.0 ? 1.25 * offset / std::sin(std::min(half_step, 1.0)) : 0.0;
+  far_squared_ = far * far;
 }
 
 bool OriginFreeSpace::violates(const Eigen::Vector3d& p, std::size_t own) const
 {
   const SpinningSensorModel& m = image_.model;
   const std::size_t W = m.width, H = m.height;
+  // Far from the sensor the beam origins' offset turns no direction by half a step: its own pixel.
+  if (p.squaredNorm() > far_squared_)
+    return false;
   const double h = std::hypot(p.x(), p.y());
   if (!(h > 0.0))
     return false;

@@ -64,7 +64,7 @@ std::vector<Eigen::Vector3d> windowCoordinates(const SpinningSensorModel& m, int
 // The new range of pixel i, or NaN when it keeps its own (too few neighbours, degenerate plane).
 double denoisePixel(const RangeImage& image, const RangeDenoisingParameters& p, const std::vector<double>& spatial,
                     const std::vector<double>& distance, const std::vector<Eigen::Vector3d>& coordinates,
-                    double sigma, std::size_t i, Window& window)
+                    const std::vector<double>& inverse, double sigma, std::size_t i, Window& window)
 {
   const std::size_t W = image.width, H = image.height;
   const std::size_t b = i / W, c = i % W;
@@ -72,13 +72,18 @@ double denoisePixel(const RangeImage& image, const RangeDenoisingParameters& p, 
   const int R = p.column_radius, B = p.beam_radius;
   const std::size_t span = std::size_t(2 * B + 1) * std::size_t(2 * R + 1);
   std::size_t n = 0;
+  const long long columns = static_cast<long long>(W);
   for (int db = -B; db <= B; ++db) {
     if ((db < 0 && b < std::size_t(-db)) || b + db >= H)
       continue;
     for (int dc = -R; dc <= R; ++dc) {
-      if (!image.model.wraps && ((dc < 0 && c < std::size_t(-dc)) || c + dc >= W))
-        continue;
-      const std::size_t j = (b + db) * W + (c + W + dc) % W;
+      long long cc = static_cast<long long>(c) + dc;  // the azimuth wraps (no division here: it is hot)
+      if (cc < 0 || cc >= columns) {
+        if (!image.model.wraps)
+          continue;
+        cc += cc < 0 ? columns : -columns;
+      }
+      const std::size_t j = (b + db) * W + static_cast<std::size_t>(cc);
       if (!image.valid[j])
         continue;
       const std::size_t k = std::size_t((db + B) * (2 * R + 1) + (dc + R));
@@ -87,6 +92,7 @@ double denoisePixel(const RangeImage& image, const RangeDenoisingParameters& p, 
       window.x1[n] = x(1);
       window.x2[n] = x(2);
       window.range[n] = image.range[j];
+      window.inverse[n] = inverse[j];
       window.spatial[n] = spatial[k];
       window.distance[n] = distance[k];
       ++n;
@@ -95,7 +101,6 @@ double denoisePixel(const RangeImage& image, const RangeDenoisingParameters& p, 
   // 1/ρ's noise is σ/ρ²: weights in ρ⁴, relative to the centre's (folded into the spatial weight).
   const double inverse_r0 = 1.0 / r0;
   for (std::size_t q = 0; q < n; ++q) {
-    window.inverse[q] = 1.0 / window.range[q];
     const double scale = window.range[q] * inverse_r0;
     window.spatial[q] *= scale * scale * scale * scale;
   }
@@ -109,9 +114,11 @@ double denoisePixel(const RangeImage& image, const RangeDenoisingParameters& p, 
         window.weight[q] = window.spatial[q] * tukey((window.range[q] - r0) / (band + slope * window.distance[q]));
     else
       for (std::size_t q = 0; q < n; ++q) {
+        // The range's misfit to first order in 1/ρ's, ρ − 1/(w·x) ≈ ρ²·(w·x − 1/ρ): exact enough
+        // where the weight is not 0 (|misfit| ≪ ρ), and no division.
         const double plane_inverse = w(0) * window.x0[q] + w(1) * window.x1[q] + w(2) * window.x2[q];
-        const double predicted = 1.0 / std::max(plane_inverse, 1e-300);
-        window.weight[q] = window.spatial[q] * tukey((window.range[q] - predicted) * inverse_band);
+        const double misfit = window.range[q] * window.range[q] * (plane_inverse - window.inverse[q]);
+        window.weight[q] = window.spatial[q] * tukey(misfit * inverse_band);
       }
     detail::InverseRangePlane plane;
     int supported = 0;
@@ -160,6 +167,9 @@ void denoiseRangeImage(const RangeImage& image, const RangeNoiseModel& noise, co
     }
   const std::vector<Eigen::Vector3d> coordinates = windowCoordinates(image.model, p.column_radius, p.beam_radius);
   const std::vector<double> nearest = nearestMeasuredRange(image);
+  std::vector<double> inverse(n, 0.0);  // 1/ρ per pixel, once
+  for (std::size_t i = 0; i < n; ++i)
+    inverse[i] = image.valid[i] ? 1.0 / image.range[i] : 0.0;
   const OriginFreeSpace from_origin(image, p.free_space_spacing, p.free_space_relative);
   range_out.assign(n, std::numeric_limits<double>::quiet_NaN());
   std::vector<char> state(n, 0);  // 0 kept, 1 moved, 2 clamped to σ, 3 clamped at free space
@@ -178,7 +188,7 @@ void denoiseRangeImage(const RangeImage& image, const RangeNoiseModel& noise, co
           continue;
         const double r0 = image.range[i], sigma = noise.sigma(r0);
         sigmas[i] = sigma;
-        double r = denoisePixel(image, p, spatial, distance, coordinates, sigma, i, window);
+        double r = denoisePixel(image, p, spatial, distance, coordinates, inverse, sigma, i, window);
         range_out[i] = r0;
         if (!std::isfinite(r) || !(r > 0.0))
           continue;

@@ -161,6 +161,7 @@ private:
   bool descending_ = true;       // elevations fall with the row
   std::vector<double> tangent_;  // tan of each beam's elevation
   double spacing_factor_, relative_range_;
+  double far_squared_ = 0.0;  // beyond this (squared) distance every point's direction is its own pixel's
 };
 
 }  // namespace patchdict
