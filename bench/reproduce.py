@@ -13,6 +13,8 @@ Runs, in order, writing into OUT (default bench/results/) and assembling OUT/RES
                                                                                scale.py
   real     fill-holes and denoise on real Kinect scans and a LiDAR tile: punched holes against harmonic
            image/grid fills, whole scans, plane roughness against PCL's MLS   real_scans.py
+  spinning the same on spinning-LiDAR frames (Ouster) against a harmonic range-image fill, and the
+           frame rate                                                          spinning_scans.py
 Meshes: data/bunny.obj (bundled) and ../shared/data/{meshes,textured} (the project's sibling folder).
 The global dictionary of the repair tables is learned from scans the tables do not repair.
 
@@ -34,7 +36,7 @@ ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 from line_plot import line_plot  # noqa: E402
 
-STEPS = ["fig7", "table1", "repair", "fig8a", "fig8bc", "scale", "real"]
+STEPS = ["fig7", "table1", "repair", "fig8a", "fig8bc", "scale", "real", "spinning"]
 REPAIR_MESHES = ["boot.obj", "demosthenes.obj", "max_planck.obj", "lucy.obj", "bunny.obj", "fandisk.obj"]
 GLOBAL_TRAINING = ["armadillo.obj", "chinese_dragon.off", "happy_buddha.obj", "mountain.obj", "skull.obj"]
 SWEEP_MESHES = ["textured/sole.ply", "textured/knurl.ply", "textured/tiles.ply", "meshes/boot.obj",
@@ -172,6 +174,18 @@ def real(a, out, log):
     run([python, HERE / "real_scans.py", "--tool", a.tool, "--shared", a.shared, "--out",
          out / "real_scans", *(["--quick"] if a.quick else [])], log)
     body = open(out / "real_scans" / "real_scans.md").read().strip().split("\n", 1)[1]  # without its title
+    return title, body.strip(), []
+
+
+def spinning(a, out, log):
+    title = "Spinning LiDAR frames — Ouster OS1-32, OS2-32, OS1-128"
+    if not (a.shared / "real").is_dir():
+        print("reproduce.py: spinning skipped: %s not found" % (a.shared / "real"), flush=True)
+        return title, "*Skipped: %s not found.*" % (a.shared / "real"), []
+    python = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
+    run([python, HERE / "spinning_scans.py", "--tool", a.tool, "--frames-dir", a.shared / "real", "--out",
+         out / "spinning_scans", *(["--quick"] if a.quick else [])], log)
+    body = open(out / "spinning_scans" / "spinning_scans.md").read().strip().split("\n", 1)[1]
     return title, body.strip(), []
 
 
