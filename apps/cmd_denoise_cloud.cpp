@@ -169,6 +169,8 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
     pcl::copyPointCloud(positions, result.denoised);
   }
   if (by_ring) {
+    if (!result.report.range_image)  // readRingScan fitted the grid: this would be a bug, not bad input
+      throw Error("the scan's ring grid was not repaired as a range image");
     const pcl::PointCloud<pcl::PointNormal> grid = result.denoised;
     scatterRingRepair(ring_scan, input, grid, result.filled, result.denoised, result.records);
     result.report.points_added = result.records.size() - cloud->size();

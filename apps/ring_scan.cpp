@@ -60,6 +60,9 @@ bool readRingScan(const CloudInput& input, RingScan& scan)
   for (std::size_t i = 0; i < n; ++i)
     seen[std::size_t(rings[i])] = 1;
   const auto used = static_cast<long long>(std::count(seen.begin(), seen.end(), char(1)));
+  if (used < 2)
+    throw Error("every point is on ring " + std::to_string(most) +
+                ": a single beam makes no grid to repair (a spinning LiDAR's scan has two or more)");
   if (2 * used < most + 1)
     throw Error("the rings run to " + std::to_string(most) + " but only " + std::to_string(used) +
                 " of them hold points: ring values out of range");
