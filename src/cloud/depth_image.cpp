@@ -112,8 +112,11 @@ DepthImage makeDepthImage(const std::vector<Eigen::Vector3d>& points, std::size_
   if (!fitAxis(points, width, height, true, typical, max_reprojection, camera.fx, camera.cx) ||
       !fitAxis(points, width, height, false, typical, max_reprojection, camera.fy, camera.cy))
     return image;
-  double squared = 0.0;
-  std::size_t used = 0;
+  // Rows in parallel; their squared errors are added in row order afterwards (the same bits on
+  // any number of threads).
+  std::vector<double> row_squared(height, 0.0);
+  std::size_t used = 0, off_ray = 0;
+#pragma omp parallel for schedule(static) reduction(+ : used, off_ray)
   for (std::size_t row = 0; row < height; ++row)
     for (std::size_t column = 0; column < width; ++column) {
       const std::size_t i = row * width + column;
@@ -124,14 +127,18 @@ DepthImage makeDepthImage(const std::vector<Eigen::Vector3d>& points, std::size_
           plausible ? Eigen::Vector2d(camera.project(points[i]) - Eigen::Vector2d(column, row))
                     : Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
       if (!(error.cwiseAbs().maxCoeff() <= max_reprojection)) {
-        ++camera.off_ray;
+        ++off_ray;
         continue;
       }
-      squared += error.squaredNorm();
+      row_squared[row] += error.squaredNorm();
       ++used;
       image.depth[i] = points[i].z();
       image.valid[i] = 1;
     }
+  camera.off_ray = off_ray;
+  double squared = 0.0;
+  for (const double row : row_squared)
+    squared += row;
   camera.rms_pixels = used ? std::sqrt(squared / static_cast<double>(used)) : 0.0;
   camera.valid = used >= 16 && camera.rms_pixels <= 0.5 * max_reprojection;
   if (!camera.valid) {
@@ -143,47 +150,86 @@ DepthImage makeDepthImage(const std::vector<Eigen::Vector3d>& points, std::size_
 
 double DepthNoiseModel::sigma(double z) const { return coefficient * std::pow(std::abs(z), exponent); }
 
+namespace {
+
+// One noise sample per planar 5 × 5 window centred on a measured pixel of row `row` (every
+// `stride`-th column): the depth and |r| of its centre (see estimateDepthNoise). `full` is (AᵀA)⁻¹ of
+// a window with all 24 neighbours, which every such window shares.
+void noiseSamplesOfRow(const DepthImage& image, std::size_t row, std::size_t stride, const Eigen::Matrix3d& full,
+                       std::vector<std::pair<double, double>>& samples)
+{
+  const std::size_t W = image.width;
+  for (std::size_t column = 2; column + 2 < W; column += stride) {
+    const double zc = image.depth[row * W + column];
+    if (!image.valid[row * W + column])
+      continue;
+    // The plane q = a + b·du + c·dv through the measured neighbours (at least 16 of the 24, all
+    // within 5 % of the centre's depth), its value a at the centre, and that prediction's
+    // leverage h = (AᵀA)⁻¹₀₀: the residual's variance is σ²(1 + h). AᵀA's entries are sums of small
+    // integers (exact in any order); Aᵀq is summed in the window's order.
+    double s1 = 0, su = 0, sv = 0, suu = 0, suv = 0, svv = 0, q0 = 0, q1 = 0, q2 = 0;
+    int count = 0;
+    bool planar = true;
+    for (int dv = -2; dv <= 2 && planar; ++dv) {
+      const char* valid = image.valid.data() + (row + dv) * W + column;
+      const double* depth = image.depth.data() + (row + dv) * W + column;
+      for (int du = -2; du <= 2; ++du) {
+        if ((du == 0 && dv == 0) || !valid[du])
+          continue;
+        const double d = depth[du];
+        if (std::abs(d - zc) > 0.05 * zc) {
+          planar = false;
+          break;
+        }
+        s1 += 1.0, su += du, sv += dv, suu += du * du, suv += du * dv, svv += dv * dv;
+        q0 += 1.0 / d;
+        q1 += du / d;
+        q2 += dv / d;
+        ++count;
+      }
+    }
+    if (!planar || count < 16)
+      continue;
+    Eigen::Matrix3d inverse = full;
+    if (count != 24) {
+      Eigen::Matrix3d AtA;
+      AtA << s1, su, sv, su, suu, suv, sv, suv, svv;
+      inverse = AtA.inverse();
+    }
+    const Eigen::Vector3d Atq(q0, q1, q2);
+    const double predicted = (inverse * Atq)(0), leverage = inverse(0, 0);
+    const double r = (1.0 / zc - predicted) * zc * zc / std::sqrt(1.0 + leverage);
+    samples.emplace_back(zc, std::abs(r));
+  }
+}
+
+}  // namespace
+
 DepthNoiseModel estimateDepthNoise(const DepthImage& image, std::size_t stride)
 {
   DepthNoiseModel model;
-  const std::size_t W = image.width, H = image.height;
+  const std::size_t H = image.height;
   stride = std::max<std::size_t>(1, stride);
+  Eigen::Matrix3d full_AtA = Eigen::Matrix3d::Zero();
+  for (int dv = -2; dv <= 2; ++dv)
+    for (int du = -2; du <= 2; ++du)
+      if (du != 0 || dv != 0) {
+        const Eigen::Vector3d a(1.0, du, dv);
+        full_AtA += a * a.transpose();
+      }
+  const Eigen::Matrix3d full = full_AtA.inverse();
+  // Rows in parallel, their samples joined in row order: the same samples in the same order on
+  // any number of threads.
+  const std::size_t rows = H > 4 ? (H - 5) / stride + 1 : 0;
+  std::vector<std::vector<std::pair<double, double>>> per_row(rows);
+#pragma omp parallel for schedule(dynamic, 8)
+  for (std::size_t k = 0; k < rows; ++k)
+    noiseSamplesOfRow(image, 2 + k * stride, stride, full, per_row[k]);
   std::vector<double> depths, residuals;  // per sample: depth, |r| in depth units
-  for (std::size_t row = 2; row + 2 < H; row += stride)
-    for (std::size_t column = 2; column + 2 < W; column += stride) {
-      const double zc = image.at(column, row);
-      if (!image.valid[row * W + column])
-        continue;
-      // The plane q = a + b·du + c·dv through the measured neighbours (at least 16 of the 24, all
-      // within 5 % of the centre's depth), its value a at the centre, and that prediction's
-      // leverage h = (AᵀA)⁻¹₀₀: the residual's variance is σ²(1 + h).
-      Eigen::Matrix3d AtA = Eigen::Matrix3d::Zero();
-      Eigen::Vector3d Atq = Eigen::Vector3d::Zero();
-      int count = 0;
-      bool planar = true;
-      for (int dv = -2; dv <= 2 && planar; ++dv)
-        for (int du = -2; du <= 2; ++du) {
-          if (du == 0 && dv == 0)
-            continue;
-          const std::size_t i = (row + dv) * W + (column + du);
-          if (!image.valid[i])
-            continue;
-          if (std::abs(image.depth[i] - zc) > 0.05 * zc) {
-            planar = false;
-            break;
-          }
-          const Eigen::Vector3d a(1.0, du, dv);
-          AtA += a * a.transpose();
-          Atq += a / image.depth[i];
-          ++count;
-        }
-      if (!planar || count < 16)
-        continue;
-      const Eigen::Matrix3d inverse = AtA.inverse();
-      const double predicted = (inverse * Atq)(0), leverage = inverse(0, 0);
-      const double r = (1.0 / zc - predicted) * zc * zc / std::sqrt(1.0 + leverage);
-      depths.push_back(zc);
-      residuals.push_back(std::abs(r));
+  for (const auto& row : per_row)
+    for (const auto& [z, r] : row) {
+      depths.push_back(z);
+      residuals.push_back(r);
     }
   model.samples = depths.size();
   if (model.samples < 30)
@@ -223,9 +269,20 @@ DepthNoiseModel estimateDepthNoise(const DepthImage& image, std::size_t stride)
   // |r| can vanish: a trimmed RMS instead — the lower 90 % of |r| / z^p, whose mean square is
   // 0.623 σ² for Gaussian noise (the variance of a normal truncated at ±1.645 σ).
   std::vector<double> scaled(residuals.size());
-  for (std::size_t i = 0; i < residuals.size(); ++i)
+  const long count = static_cast<long>(scaled.size());
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < count; ++i)
     scaled[i] = residuals[i] / std::pow(depths[i], model.exponent);
-  std::sort(scaled.begin(), scaled.end());
+  // Sorted in two halves at once, then merged: sorted doubles are one sequence, however sorted.
+  const auto middle = scaled.begin() + count / 2;
+#pragma omp parallel sections
+  {
+#pragma omp section
+    std::sort(scaled.begin(), middle);
+#pragma omp section
+    std::sort(middle, scaled.end());
+  }
+  std::inplace_merge(scaled.begin(), middle, scaled.end());
   const std::size_t kept = std::max<std::size_t>(1, scaled.size() * 9 / 10);
   double sum = 0.0;
   for (std::size_t i = 0; i < kept; ++i)
@@ -240,15 +297,42 @@ FreeSpaceTest::FreeSpaceTest(const DepthImage& image, double spacing_factor, dou
 {
   const std::size_t W = image.width, H = image.height;
   nearest_.assign(W * H, std::numeric_limits<double>::infinity());
-  for (std::size_t row = 0; row < H; ++row)
-    for (std::size_t column = 0; column < W; ++column) {
-      double m = std::numeric_limits<double>::infinity();
-      for (std::size_t r = row ? row - 1 : 0; r <= std::min(H - 1, row + 1); ++r)
-        for (std::size_t c = column ? column - 1 : 0; c <= std::min(W - 1, column + 1); ++c)
-          if (image.valid[r * W + c])
-            m = std::min(m, image.depth[r * W + c]);
-      nearest_[row * W + column] = m;
+  if (W == 0 || H == 0 || image.depth.size() != W * H || image.valid.size() != W * H)
+    return;
+  // The 3 × 3 minimum as a minimum over 3 columns, then over 3 rows (the same values): each thread
+  // keeps the column minima of its last three rows.
+  const long rows = static_cast<long>(H);
+  const auto across = [&](std::size_t row, double* out, double* measured) {
+    const std::size_t o = row * W;
+    const double inf = std::numeric_limits<double>::infinity();
+    for (std::size_t column = 0; column < W; ++column) {  // NaN is never a minimum: as unmeasured
+      const double z = image.depth[o + column];
+      measured[column] = image.valid[o + column] && z == z ? z : inf;
     }
+    out[0] = W > 1 ? std::min(measured[0], measured[1]) : measured[0];
+    for (std::size_t column = 1; column + 1 < W; ++column)
+      out[column] = std::min(std::min(measured[column - 1], measured[column]), measured[column + 1]);
+    if (W > 1)
+      out[W - 1] = std::min(measured[W - 2], measured[W - 1]);
+  };
+#pragma omp parallel
+  {
+    std::vector<double> band(3 * W), measured(W);
+    long ready = -2;  // band holds rows ready − 1 … ready + 1, row r at (r mod 3)
+#pragma omp for schedule(static)
+    for (long r = 0; r < rows; ++r) {
+      for (long k = std::max(r - 1, ready + 2); k <= std::min(rows - 1, r + 1); ++k)
+        across(static_cast<std::size_t>(k), band.data() + static_cast<std::size_t>(k % 3) * W, measured.data());
+      ready = r;
+      const std::size_t row = static_cast<std::size_t>(r);
+      const double* above = band.data() + ((row ? row - 1 : row) % 3) * W;
+      const double* here = band.data() + (row % 3) * W;
+      const double* below = band.data() + (std::min(H - 1, row + 1) % 3) * W;
+      double* out = nearest_.data() + row * W;
+      for (std::size_t column = 0; column < W; ++column)
+        out[column] = std::min(std::min(above[column], here[column]), below[column]);
+    }
+  }
 }
 
 bool FreeSpaceTest::violates(const Eigen::Vector3d& p) const

@@ -96,7 +96,8 @@ bool fitRim(const DepthImage& image, const DepthNoiseModel& noise, const std::ve
 }
 
 // Harmonic interpolation of the rim's misfit into the region: Δe = 0 on the region's pixels, e the
-// misfit at the measured 4-neighbours. Returns one value per region pixel (in region order).
+// misfit at the measured 4-neighbours. Returns one value per region pixel (in region order). `label`
+// holds region ids on unmeasured pixels (and ring marks on measured ones).
 Eigen::VectorXd harmonicMisfit(const DepthImage& image, const RimFit& fit, const std::vector<std::size_t>& region,
                                const std::vector<int>& label, int id)
 {
@@ -112,7 +113,7 @@ Eigen::VectorXd harmonicMisfit(const DepthImage& image, const RimFit& fit, const
     const std::size_t neighbours[4] = {i - 1, i + 1, i - W, i + W};  // enclosed: never on the border
     double diagonal = 0.0;
     for (const std::size_t j : neighbours) {
-      if (label[j] == id) {
+      if (!image.valid[j] && label[j] == id) {
         entries.emplace_back(static_cast<Eigen::Index>(k), position(j), -1.0);
         diagonal += 1.0;
       } else if (image.valid[j]) {
@@ -278,7 +279,10 @@ void fillOrganizedHoles(const DepthImage& image, const DepthNoiseModel& noise, c
     throw Error("organised hole filling: parameters must be finite and ≥ 0 (rim_outlier_share ≤ 1, fit_ring ≤ 64)");
   const std::size_t W = image.width, H = image.height;
   const FreeSpaceTest free_space(image, parameters.free_space_spacing, parameters.free_space_relative);
-  std::vector<int> label(W * H, 0), ring_mark(W * H, 0);
+  // Region ids on the unmeasured pixels, ring marks (the id of the region whose ring last took the
+  // pixel) on the measured ones: one array, as the two never share a pixel.
+  std::vector<int> label(W * H, 0);
+  std::vector<int>& ring_mark = label;
   std::vector<std::pair<std::size_t, Eigen::Vector3d>> filled;
   std::vector<std::size_t> region;
   int id = 0;

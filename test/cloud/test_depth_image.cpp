@@ -8,9 +8,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
+#include <utility>
 
 namespace {
 
@@ -89,6 +91,46 @@ TEST(DepthImage, FreeSpaceIsWhatTheSensorSawThrough)
   EXPECT_FALSE(test.violates(0.999 * wall)); // within the tolerance
   EXPECT_FALSE(test.violates(Eigen::Vector3d(0.0, 0.0, -1.0)));  // behind the camera
   EXPECT_FALSE(test.violates(Eigen::Vector3d(50.0, 0.0, 1.0)));  // outside the image
+}
+
+// The seen depth of a pixel is the minimum of the measured depths of its 3 × 3 neighbourhood (it is
+// computed as a minimum over columns, then over rows, in bands of rows per thread): checked against
+// that definition pixel by pixel on a random image with unmeasured pixels, NaN depths and odd sizes.
+TEST(DepthImage, FreeSpaceSeesTheNearestMeasuredDepthOfEachNeighbourhood)
+{
+  for (const auto& [W, H] : {std::pair<std::size_t, std::size_t>{37, 23}, {1, 9}, {9, 1}, {2, 2}}) {
+    DepthImage image;
+    image.width = W;
+    image.height = H;
+    image.camera.fx = image.camera.fy = 50.0;
+    image.camera.cx = 0.5 * (W - 1.0);
+    image.camera.cy = 0.5 * (H - 1.0);
+    image.camera.valid = true;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> depth(1.0, 2.0), coin(0.0, 1.0);
+    image.depth.resize(W * H);
+    image.valid.resize(W * H);
+    for (std::size_t i = 0; i < W * H; ++i) {
+      image.valid[i] = coin(rng) < 0.7;
+      image.depth[i] = coin(rng) < 0.05 ? kNaN : depth(rng);  // NaN even where marked valid: never seen
+    }
+    const pcl::patchdict::FreeSpaceTest test(image, 0.0, 0.001);  // tolerance 0.1 % of the seen depth
+    for (std::size_t r = 0; r < H; ++r)
+      for (std::size_t c = 0; c < W; ++c) {
+        double seen = std::numeric_limits<double>::infinity();
+        for (std::size_t rr = r ? r - 1 : 0; rr <= std::min(H - 1, r + 1); ++rr)
+          for (std::size_t cc = c ? c - 1 : 0; cc <= std::min(W - 1, c + 1); ++cc)
+            if (image.valid[rr * W + cc] && std::isfinite(image.depth[rr * W + cc]))
+              seen = std::min(seen, image.depth[rr * W + cc]);
+        const auto at = [&](double z) { return image.camera.pointAt(double(c), double(r), z); };
+        if (!std::isfinite(seen)) {
+          EXPECT_FALSE(test.violates(at(0.5))) << W << "x" << H << " " << c << "," << r;
+          continue;
+        }
+        EXPECT_TRUE(test.violates(at(seen * 0.998))) << W << "x" << H << " " << c << "," << r;
+        EXPECT_FALSE(test.violates(at(seen * 0.9995))) << W << "x" << H << " " << c << "," << r;
+      }
+  }
 }
 
 TEST(OrganizedHoleFilling, FillsAHoleOnOneSurfaceAndNeverBridgesAShadow)

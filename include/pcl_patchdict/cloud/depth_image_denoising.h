@@ -74,7 +74,9 @@ int depthDenoisingRadius(const PinholeCamera& camera, const DepthDenoisingParame
   * depth_out[i]: the new depth of pixel i; NaN where image.valid[i] is 0; the input depth where the
   * window holds fewer than min_neighbours neighbours of weight or their plane is degenerate. Each
   * point stays on its pixel's ray (only z changes; x and y follow from camera.pointAt). Each pixel's
-  * output depends only on the input, so the result does not depend on num_threads. Throws
+  * output depends only on the input, so the result does not depend on num_threads, nor on the
+  * instruction set the CPU offers (the pixels are fitted 8 or 16 at a time, one per vector lane, in
+  * float; see depth_image_denoising.cpp). Throws
   * pcl::patchdict::Error when the image has no valid camera or the noise model no coefficient. */
 void denoiseDepthImage(const DepthImage& image, const DepthNoiseModel& noise, const DepthDenoisingParameters& parameters,
                        std::vector<double>& depth_out, DepthDenoisingReport& report);
