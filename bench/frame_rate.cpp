@@ -2,7 +2,7 @@
 // the library, as a robot would run it: the sensor model estimated once, then every frame filled
 // and denoised on it.
 //
-//   frame_rate IN.pcd [--frames N] [--threads T] [--json]
+//   frame_rate IN.pcd [--frames N] [--threads T] [--json] [--fresh-pages]
 //
 // Reads IN.pcd once (not timed). Frame 1 is processed as a first frame is (the sensor model fitted
 // and its noise law estimated) and its model kept with setSensorModel; frames 2..N reprocess the same
@@ -13,9 +13,14 @@
 #include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
 
 #include <pcl/io/pcd_io.h>
+
+#include <omp.h>
 #include <pcl/point_types.h>
 
 #include <algorithm>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -41,7 +46,7 @@ double median(std::vector<double> v)
 struct Options {
   std::string input;
   int frames = 20, threads = 0;
-  bool json = false;
+  bool json = false, fresh_pages = false;
 };
 
 bool readOptions(int argc, char** argv, Options& o)
@@ -66,6 +71,8 @@ bool readOptions(int argc, char** argv, Options& o)
         return false;
     } else if (a == "--json") {
       o.json = true;
+    } else if (a == "--fresh-pages") {
+      o.fresh_pages = true;
     } else if (!a.empty() && a[0] != '-' && o.input.empty()) {
       o.input = a;
     } else {
@@ -81,9 +88,18 @@ int main(int argc, char** argv)
 {
   Options o;
   if (!readOptions(argc, argv, o)) {
-    std::fprintf(stderr, "usage: frame_rate IN.pcd [--frames N (2..)] [--threads T (1..)] [--json]\n");
+    std::fprintf(stderr, "usage: frame_rate IN.pcd [--frames N (2..)] [--threads T (1..)] [--json] [--fresh-pages]\n");
     return 2;
   }
+#ifdef __GLIBC__
+  // As the tool does (apps/main.cpp), and as a robot's process repairing frame after frame should:
+  // the frames' large blocks stay in the heap instead of being mapped and unmapped (page faults)
+  // each frame. --fresh-pages measures without it.
+  if (!o.fresh_pages) {
+    mallopt(M_MMAP_THRESHOLD, 256 << 20);
+    mallopt(M_TRIM_THRESHOLD, 512 << 20);
+  }
+#endif
   auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
   if (pcl::io::loadPCDFile(o.input, *cloud) != 0 || cloud->height < 2) {
     std::fprintf(stderr, "frame_rate: %s is not a readable organised PCD\n", o.input.c_str());
@@ -92,8 +108,10 @@ int main(int argc, char** argv)
   Inpainter inpainter;
   inpainter.setInputCloud(cloud);
   inpainter.setMode(Inpainter::Mode::DenoiseAndComplete);
-  if (o.threads > 0)
+  if (o.threads > 0) {
     inpainter.setNumberOfThreads(o.threads);
+    omp_set_num_threads(o.threads);  // the stages without a thread setting of their own too
+  }
   pcl::PointCloud<pcl::PointXYZ> out;
   std::vector<double> total, model, denoise, fill, rest;
   double first = 0.0;

@@ -16,6 +16,8 @@
 #include <limits>
 #include <numeric>
 
+#include <omp.h>
+
 namespace pcl {
 namespace patchdict {
 namespace detail {
@@ -83,7 +85,10 @@ void GeometricCloudInpainter<PointInT, PointOutT>::readInput(detail::CloudRun& r
   const PointCloudIn& input = *input_;
   std::vector<Eigen::Vector3d>& points = run.points;
   points.resize(input.size());
-  for (std::size_t i = 0; i < input.size(); ++i) {
+  const long long count = static_cast<long long>(input.size());
+#pragma omp parallel for schedule(static) num_threads(parameters_.num_threads > 0 ? parameters_.num_threads : omp_get_max_threads())
+  for (long long k = 0; k < count; ++k) {
+    const std::size_t i = static_cast<std::size_t>(k);
     const PointInT& p = input[i];
     points[i] = Eigen::Vector3d(p.x, p.y, p.z);
     if (!points[i].allFinite())
@@ -124,11 +129,18 @@ bool GeometricCloudInpainter<PointInT, PointOutT>::processAsDepthImage(const det
     const Eigen::Vector3d o = frame == 0 ? Eigen::Vector3d::Zero() : pose_o;
     if (frame == 1 && R.isIdentity(1e-12) && o.isZero(0.0))
       break;
-    std::vector<Eigen::Vector3d> local(run.points.size()), local_normals(run.normals.size());
-    for (std::size_t i = 0; i < run.points.size(); ++i)
-      local[i] = R.transpose() * (run.points[i] - o);
-    for (std::size_t i = 0; i < run.normals.size(); ++i)
-      local_normals[i] = R.transpose() * run.normals[i];
+    // The cloud's own frame needs no copy of its points.
+    std::vector<Eigen::Vector3d> moved, moved_normals;
+    if (frame == 1) {
+      moved.resize(run.points.size());
+      moved_normals.resize(run.normals.size());
+      for (std::size_t i = 0; i < run.points.size(); ++i)
+        moved[i] = R.transpose() * (run.points[i] - o);
+      for (std::size_t i = 0; i < run.normals.size(); ++i)
+        moved_normals[i] = R.transpose() * run.normals[i];
+    }
+    const std::vector<Eigen::Vector3d>& local = frame == 0 ? run.points : moved;
+    const std::vector<Eigen::Vector3d>& local_normals = frame == 0 ? run.normals : moved_normals;
     const DepthImage image = makeDepthImage(local, input.width, input.height);
     if (image.camera.valid) {
       processDepthImage(local, local_normals, image, R, o, output);

@@ -15,6 +15,8 @@
 #include <cmath>
 #include <limits>
 
+#include <omp.h>
+
 namespace pcl {
 namespace patchdict {
 namespace detail {
@@ -113,18 +115,29 @@ void GeometricCloudInpainter<PointInT, PointOutT>::denoiseDepthInImage(detail::D
   report_.seconds_fit = std::chrono::duration<double>(std::chrono::steady_clock::now() - fit_start).count();
   report_.depth_denoised_in_image = true;
   const FreeSpaceTest free_space(image);
-  for (const std::size_t i : run.queries) {
+  const long long queries = static_cast<long long>(run.queries.size());
+  const int threads = parameters_.num_threads > 0 ? parameters_.num_threads : omp_get_max_threads();
+  std::size_t reverted = 0;
+#pragma omp parallel for schedule(static) num_threads(threads) reduction(+ : reverted)
+  for (long long q = 0; q < queries; ++q) {
+    const std::size_t i = run.queries[std::size_t(q)];
     run.position[i] = camera.pointAt(double(i % W), double(i / W), depth[i]);
     if (!run.position[i].allFinite() || free_space.violates(run.position[i])) {
       run.position[i] = run.measured[i];
-      ++report_.free_space_reverted;
+      ++reverted;
     }
   }
-  for (const std::size_t i : run.queries)
-    run.normal[i] = run.gridNormal(i);
+  report_.free_space_reverted += reverted;
+  if constexpr (pcl::traits::has_normal_v<PointOutT>) {  // normals only for a type that keeps them
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (long long q = 0; q < queries; ++q)
+      run.normal[run.queries[std::size_t(q)]] = run.gridNormal(run.queries[std::size_t(q)]);
+  }
+  // The report's typical depth: the median of up to ~4k evenly spaced measured pixels.
   std::vector<double> depths;
-  for (const std::size_t i : run.queries)
-    depths.push_back(image.depth[i]);
+  const std::size_t stride = std::max<std::size_t>(1, run.queries.size() / 4096);
+  for (std::size_t k = 0; k < run.queries.size(); k += stride)
+    depths.push_back(image.depth[run.queries[k]]);
   std::nth_element(depths.begin(), depths.begin() + static_cast<std::ptrdiff_t>(depths.size() / 2), depths.end());
   const double typical = depths[depths.size() / 2];
   report_.noise_sigma = report_.depth_noise.sigma(typical);  // at the median depth
@@ -200,11 +213,16 @@ void GeometricCloudInpainter<PointInT, PointOutT>::denoiseDepthWithPatches(detai
 template <typename PointInT, typename PointOutT>
 void GeometricCloudInpainter<PointInT, PointOutT>::fillDepthHoles(detail::DepthRun& run)
 {
-  DepthImage source = run.image;  // the denoised depths, when denoised first
-  for (std::size_t i = 0; i < run.n; ++i) {
-    source.valid[i] = run.present[i];
-    source.depth[i] = run.present[i] ? run.position[i].z() : std::numeric_limits<double>::quiet_NaN();
+  // The denoised depths, when denoised first; in Complete mode the image as it is (no copy).
+  DepthImage denoised;
+  if (mode_ != Mode::Complete) {
+    denoised = run.image;
+    for (std::size_t i = 0; i < run.n; ++i) {
+      denoised.valid[i] = run.present[i];
+      denoised.depth[i] = run.present[i] ? run.position[i].z() : std::numeric_limits<double>::quiet_NaN();
+    }
   }
+  const DepthImage& source = mode_ != Mode::Complete ? denoised : run.image;
   OrganizedFillParameters fill = organized_fill_;
   if (completion_.max_hole_diameter > 0.0)
     fill.max_hole_diameter = completion_.max_hole_diameter;
@@ -216,8 +234,9 @@ void GeometricCloudInpainter<PointInT, PointOutT>::fillDepthHoles(detail::DepthR
     run.position[run.filled[k]] = added[k];
     run.present[run.filled[k]] = 1;
   }
-  for (const std::size_t i : run.filled)
-    run.normal[i] = run.gridNormal(i);
+  if constexpr (pcl::traits::has_normal_v<PointOutT>)
+    for (const std::size_t i : run.filled)
+      run.normal[i] = run.gridNormal(i);
   report_.points_added = run.filled.size();
   report_.completion.points_added = run.filled.size();
   report_.completion.holes_filled = report_.organized_fill.holes_filled;
@@ -241,28 +260,38 @@ void GeometricCloudInpainter<PointInT, PointOutT>::writeDepthOutput(const detail
   output.sensor_orientation_ = input.sensor_orientation_;
   output.resize(run.W, run.H);
   const float fnan = std::numeric_limits<float>::quiet_NaN();
-  double displacement = 0.0;
-  std::size_t moved_count = 0;
-  for (std::size_t i = 0; i < n; ++i) {
+  // Every pixel written in parallel (each its own output point), the index lists after, in order.
+  const long long pixels = static_cast<long long>(n);
+  const int threads = parameters_.num_threads > 0 ? parameters_.num_threads : omp_get_max_threads();
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (long long k = 0; k < pixels; ++k) {
+    const std::size_t i = static_cast<std::size_t>(k);
     PointOutT& out = output[i];
     pcl::copyPoint(input[i], out);
-    const bool input_kept = mode_ == Mode::Complete && run.image.valid[i];
     if (!run.present[i]) {
       out.x = out.y = out.z = fnan;
       if constexpr (pcl::traits::has_normal_v<PointOutT>)
         out.normal_x = out.normal_y = out.normal_z = fnan;
       continue;
     }
-    if (!is_filled[i]) {
-      kept_indices_.push_back(static_cast<pcl::index_t>(i));
-      if (input_kept)
-        continue;  // Complete: the measured points as they are
-      displacement += (run.position[i] - run.measured[i]).norm();
-      ++moved_count;
-    } else {
-      added_sources_.push_back(static_cast<pcl::index_t>(i));
-    }
+    if (!is_filled[i] && mode_ == Mode::Complete && run.image.valid[i])
+      continue;  // Complete: the measured points as they are
     place(out, R * run.position[i] + o, R * run.normal[i]);
+  }
+  double displacement = 0.0;
+  std::size_t moved_count = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!run.present[i])
+      continue;
+    if (is_filled[i]) {
+      added_sources_.push_back(static_cast<pcl::index_t>(i));
+      continue;
+    }
+    kept_indices_.push_back(static_cast<pcl::index_t>(i));
+    if (mode_ == Mode::Complete && run.image.valid[i])
+      continue;
+    displacement += (run.position[i] - run.measured[i]).norm();
+    ++moved_count;
   }
   report_.output_points = kept_indices_.size();
   report_.mean_displacement = moved_count ? displacement / static_cast<double>(moved_count) : 0.0;

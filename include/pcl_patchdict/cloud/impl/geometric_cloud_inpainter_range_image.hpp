@@ -222,11 +222,13 @@ void GeometricCloudInpainter<PointInT, PointOutT>::processRangeImage(const std::
     report_.completion.points_added = run.filled.size();
     report_.completion.holes_filled = report_.range_fill.holes_filled;
   }
-  const long long pixels = static_cast<long long>(n);
+  if constexpr (pcl::traits::has_normal_v<PointOutT>) {  // normals only for a type that keeps them
+    const long long pixels = static_cast<long long>(n);
 #pragma omp parallel for schedule(static) num_threads(parameters_.num_threads > 0 ? parameters_.num_threads : omp_get_max_threads())
-  for (long long i = 0; i < pixels; ++i)
-    if (run.present[std::size_t(i)])
-      run.normal[std::size_t(i)] = detail::rangeGridNormal(run, image, std::size_t(i));
+    for (long long i = 0; i < pixels; ++i)
+      if (run.present[std::size_t(i)])
+        run.normal[std::size_t(i)] = detail::rangeGridNormal(run, image, std::size_t(i));
+  }
   writeDepthOutput(run, R, o, output);
   interpolateFilledIntensity(run, output);
 }
