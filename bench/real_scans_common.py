@@ -156,19 +156,19 @@ def score(P_in, width, height, removed, P_out, in_holes, cam=None):
 
 # ---------------------------------------------------------------- punched holes
 
-def punch_image(arr, width, height, seed):
-    """8 discs of NaN in image space, each with its 2-px ring valid and on one surface (depth spread of
-    disc + ring < 3 % of its median), disc + ring not touching another's. -> (holed array, removed
-    points, holes as (row, col, radius))."""
+def punch_discs(arr, width, height, seed, depth, radius_px, who):
+    """8 discs of NaN in image space (numpy default_rng(seed)), radii in radius_px, each with its 2-px
+    ring valid and on one surface (`depth` — z, or a range — spread of disc + ring < 3 % of its
+    median), disc + ring not touching another's nor leaving the image. -> (holed array, removed
+    points, their flat pixel indices, holes as (row, col, radius))."""
     P = xyz(arr)
     valid = finite_rows(P).reshape(height, width)
-    depth = np.where(valid, P[:, 2].reshape(height, width), np.nan)
     rng = np.random.default_rng(seed)
     taken = np.zeros((height, width), bool)
     holes, tries = [], 0
     while len(holes) < HOLES and tries < 20000:
         tries += 1
-        r = int(rng.integers(RADIUS_PX[0], RADIUS_PX[1] + 1))
+        r = int(rng.integers(radius_px[0], radius_px[1] + 1))
         cy, cx = int(rng.integers(r + 2, height - r - 2)), int(rng.integers(r + 2, width - r - 2))
         yy, xx = np.ogrid[-r - 2:r + 3, -r - 2:r + 3]
         ring = yy * yy + xx * xx <= (r + 2) * (r + 2)  # the disc and its 2-px ring
@@ -181,7 +181,7 @@ def punch_image(arr, width, height, seed):
         taken[window] |= ring
         holes.append((cy, cx, r))
     if len(holes) < HOLES:
-        sys.exit("real_scans.py: only %d holes fit on one surface each (seed %d)" % (len(holes), seed))
+        sys.exit("%s: only %d holes fit on one surface each (seed %d)" % (who, len(holes), seed))
     yy, xx = np.ogrid[:height, :width]
     mask = np.zeros((height, width), bool)
     for cy, cx, r in holes:
@@ -190,7 +190,17 @@ def punch_image(arr, width, height, seed):
     holed = arr.copy()
     for c in "xyz":
         holed[c][flat] = np.nan
-    return holed, P[flat], holes
+    return holed, P[flat], np.flatnonzero(flat), holes
+
+
+def punch_image(arr, width, height, seed):
+    """8 discs of RADIUS_PX in a depth image, on one surface by their depth (punch_discs).
+    -> (holed array, removed points, holes as (row, col, radius))."""
+    P = xyz(arr)
+    valid = finite_rows(P).reshape(height, width)
+    depth = np.where(valid, P[:, 2].reshape(height, width), np.nan)
+    holed, removed, _, holes = punch_discs(arr, width, height, seed, depth, RADIUS_PX, "real_scans.py")
+    return holed, removed, holes
 
 
 def lidar_spacing(Q):

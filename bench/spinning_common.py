@@ -14,7 +14,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import spsolve
 from scipy.spatial import cKDTree
 
-from real_scans_common import xyz, finite_rows, spacing_at, split_added, score  # noqa: E402
+from real_scans_common import xyz, finite_rows, spacing_at, split_added, score, punch_discs  # noqa: E402
 
 HOLES, SPREAD, MAX_FILL_PX = 8, 0.03, 2000
 PLANE_THRESHOLD, PLANE_TRIES, ROUGHNESS_RADIUS, ROUGHNESS_POINTS, WALL_ABOVE = 0.1, 500, 0.5, 4000, 0.5
@@ -39,38 +39,8 @@ def punch_range_image(arr, width, height, seed):
     and its 2-px ring valid and on one surface (range spread < 3 % of the median), disc + ring not touching
     another's nor leaving the image (so the disc keeps off the first and last 2 beams; no wrap).
     -> (holed array, removed points, their flat pixel indices, holes as (row, col, radius))."""
-    P = xyz(arr)
-    valid = finite_rows(P).reshape(height, width)
-    rng_img = range_image(P, width, height)
-    rmin, rmax = radius_px(height)
-    rng = np.random.default_rng(seed)
-    taken = np.zeros((height, width), bool)
-    holes, tries = [], 0
-    while len(holes) < HOLES and tries < 20000:
-        tries += 1
-        r = int(rng.integers(rmin, rmax + 1))
-        cy, cx = int(rng.integers(r + 2, height - r - 2)), int(rng.integers(r + 2, width - r - 2))
-        yy, xx = np.ogrid[-r - 2:r + 3, -r - 2:r + 3]
-        ring = yy * yy + xx * xx <= (r + 2) * (r + 2)  # the disc and its 2-px ring
-        window = (slice(cy - r - 2, cy + r + 3), slice(cx - r - 2, cx + r + 3))
-        if not valid[window][ring].all() or taken[window][ring].any():
-            continue
-        d = rng_img[window][ring]
-        if d.max() - d.min() > SPREAD * np.median(d):
-            continue
-        taken[window] |= ring
-        holes.append((cy, cx, r))
-    if len(holes) < HOLES:
-        sys.exit("spinning_scans.py: only %d holes fit on one surface each (seed %d)" % (len(holes), seed))
-    yy, xx = np.ogrid[:height, :width]
-    mask = np.zeros((height, width), bool)
-    for cy, cx, r in holes:
-        mask |= (yy - cy) ** 2 + (xx - cx) ** 2 <= r * r
-    flat = mask.ravel()
-    holed = arr.copy()
-    for c in "xyz":
-        holed[c][flat] = np.nan
-    return holed, P[flat], np.flatnonzero(flat), holes
+    return punch_discs(arr, width, height, seed, range_image(xyz(arr), width, height), radius_px(height),
+                       "spinning_scans.py")
 
 
 # ---------------------------------------------------------------- the harmonic range-image fill
