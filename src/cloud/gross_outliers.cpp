@@ -24,13 +24,15 @@ std::size_t removeGrossOutliers(std::vector<Eigen::Vector3d>& points, double fac
     values.clear();
     for (std::size_t k = 0; k < finite.size(); k += stride)
       values.push_back(points[finite[k]][axis]);
-    const auto at = [&](double q) {
-      const auto it = values.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(values.size() - 1));
-      std::nth_element(values.begin(), it, values.end());
-      return *it;
-    };
-    median[axis] = at(0.5);
-    extent[axis] = at(0.75) - at(0.25);
+    // The median first; the quartiles then lie in its lower and upper parts (nth_element leaves them
+    // partitioned there), so each is selected from half the values: the same values, a third of the work.
+    const auto index = [&](double q) { return static_cast<std::ptrdiff_t>(q * static_cast<double>(values.size() - 1)); };
+    const auto mid = values.begin() + index(0.5), low = values.begin() + index(0.25), high = values.begin() + index(0.75);
+    std::nth_element(values.begin(), mid, values.end());
+    median[axis] = *mid;
+    std::nth_element(values.begin(), low, mid);
+    std::nth_element(mid, high, values.end());
+    extent[axis] = *high - *low;
   }
   const double reach = factor * std::max(extent.maxCoeff(), 1e-12 * std::max(median.cwiseAbs().maxCoeff(), 1.0));
   std::size_t removed = 0;
