@@ -100,6 +100,17 @@ TEST(CliSpinning, AFrameOfAnotherSensorAndABadModelAreRefusedInOneLine)
                 dir.file("b.pcd"), "sensor model: 'height' missing");
 }
 
+TEST(CliSpinning, OneAndTwoThreadsWriteTheSameBytes)
+{
+  TempDir dir;
+  for (const char* threads : {"1", "2"}) {
+    const auto run = runTool("fill-holes " + q(frame()) + " -o " + q(dir.file(std::string("t") + threads + ".pcd")) +
+                             " --denoise --quiet --threads " + threads);
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+  }
+  EXPECT_EQ(readFile(dir.file("t1.pcd")), readFile(dir.file("t2.pcd")));
+}
+
 // Rows shuffled (beams out of order) and the grid transposed: refused, never repaired as a cloud.
 TEST(CliSpinning, HostileGridsAreRefusedInOneLine)
 {
