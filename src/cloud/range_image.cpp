@@ -174,7 +174,10 @@ bool fitAzimuths(const std::vector<Eigen::Vector3d>& points, SpinningSensorModel
   if (!(std::abs(m.azimuth_step) > 1e-9) || std::abs(m.azimuth_step) * double(W) > 2.0 * kPi * 1.05)
     return false;
   m.wraps = std::abs(std::abs(m.azimuth_step) * double(W) - 2.0 * kPi) <= std::abs(m.azimuth_step);
-  if (m.wraps)  // a whole turn: the step is exactly 2π / W (the median's error would add up over W columns)
+  // A whole turn to 0.1 %: the step is exactly 2π / W (the median's error would add up over W
+  // columns). A frame of a little more or less than a turn (a Velodyne's column count varies from
+  // frame to frame) keeps the measured step.
+  if (std::abs(std::abs(m.azimuth_step) * double(W) - 2.0 * kPi) <= 1e-3 * 2.0 * kPi)
     m.azimuth_step = std::copysign(2.0 * kPi / double(W), m.azimuth_step);
   std::vector<double> beam_start(H, kNaN), all;
   for (std::size_t b = 0; b < H; ++b) {
