@@ -407,32 +407,59 @@ double RangeNoiseModel::sigma(double range) const
   return std::max(law, quantum / std::sqrt(12.0));
 }
 
-std::vector<double> nearestMeasuredRange(const RangeImage& image)
+namespace {
+
+// The minimum of `value` over each pixel's 3 × 3 neighbourhood (with the pixel itself when `self`),
+// the azimuth wrapping when the model does: a pass over the beams above and below, then one over the
+// columns either side, rows in parallel (each output depends on the input alone).
+std::vector<double> neighbourhoodMinimum(const std::vector<double>& value, const RangeImage& image, bool self)
 {
   const std::size_t W = image.width, H = image.height;
   const double inf = std::numeric_limits<double>::infinity();
   std::vector<double> across(W * H, inf), column(W * H, inf), nearest(W * H, inf);
-  const auto measured = [&](std::size_t i) { return image.valid[i] ? image.range[i] : inf; };
-  for (std::size_t b = 0; b < H; ++b)
+  const long long rows = static_cast<long long>(H);
+#pragma omp parallel for schedule(static)
+  for (long long row = 0; row < rows; ++row) {
+    const std::size_t b = static_cast<std::size_t>(row);
     for (std::size_t c = 0; c < W; ++c) {
-      double best = inf;  // the column's neighbours above and below; the pixel itself is added later
+      double best = inf;  // the beams above and below
       if (b > 0)
-        best = std::min(best, measured((b - 1) * W + c));
+        best = std::min(best, value[(b - 1) * W + c]);
       if (b + 1 < H)
-        best = std::min(best, measured((b + 1) * W + c));
-      across[b * W + c] = best;
-      column[b * W + c] = std::min(best, measured(b * W + c));
+        best = std::min(best, value[(b + 1) * W + c]);
+      across[b * W + c] = self ? std::min(best, value[b * W + c]) : best;
+      column[b * W + c] = std::min(best, value[b * W + c]);
     }
-  for (std::size_t b = 0; b < H; ++b)
+  }
+#pragma omp parallel for schedule(static)
+  for (long long row = 0; row < rows; ++row) {
+    const std::size_t b = static_cast<std::size_t>(row);
     for (std::size_t c = 0; c < W; ++c) {
-      double best = across[b * W + c];  // above and below, then the columns either side
-      if (c > 0 || image.model.wraps)
-        best = std::min(best, column[b * W + (c + W - 1) % W]);
-      if (c + 1 < W || image.model.wraps)
-        best = std::min(best, column[b * W + (c + 1) % W]);
+      double best = across[b * W + c];  // then the columns either side, with their own pixel
+      if (c > 0)
+        best = std::min(best, column[b * W + c - 1]);
+      else if (image.model.wraps)
+        best = std::min(best, column[b * W + W - 1]);
+      if (c + 1 < W)
+        best = std::min(best, column[b * W + c + 1]);
+      else if (image.model.wraps)
+        best = std::min(best, column[b * W]);
       nearest[b * W + c] = best;
     }
+  }
   return nearest;
+}
+
+}  // namespace
+
+std::vector<double> nearestMeasuredRange(const RangeImage& image)
+{
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> measured(image.range.size(), inf);
+  for (std::size_t i = 0; i < measured.size(); ++i)
+    if (image.valid[i])
+      measured[i] = image.range[i];
+  return neighbourhoodMinimum(measured, image, false);
 }
 
 OriginFreeSpace::OriginFreeSpace(const RangeImage& image, double spacing_factor, double relative_range)
@@ -440,30 +467,12 @@ OriginFreeSpace::OriginFreeSpace(const RangeImage& image, double spacing_factor,
 {
   const std::size_t W = image.width, H = image.height;
   const double inf = std::numeric_limits<double>::infinity();
-  // |point| per measured pixel, its minimum over the beams above and below, then over the columns.
-  std::vector<double> norm(W * H, inf), across(W * H, inf);
+  // |point| per measured pixel, then its minimum over each pixel's 3 × 3 neighbourhood.
+  std::vector<double> norm(W * H, inf);
   for (std::size_t i = 0; i < W * H; ++i)
     if (image.valid[i])
       norm[i] = image.pointAt(i, image.range[i]).norm();
-  for (std::size_t b = 0; b < H; ++b)
-    for (std::size_t c = 0; c < W; ++c) {
-      double best = norm[b * W + c];
-      if (b > 0)
-        best = std::min(best, norm[(b - 1) * W + c]);
-      if (b + 1 < H)
-        best = std::min(best, norm[(b + 1) * W + c]);
-      across[b * W + c] = best;
-    }
-  nearest_.assign(W * H, inf);
-  for (std::size_t b = 0; b < H; ++b)
-    for (std::size_t c = 0; c < W; ++c) {
-      double best = across[b * W + c];
-      if (c > 0 || image.model.wraps)
-        best = std::min(best, across[b * W + (c + W - 1) % W]);
-      if (c + 1 < W || image.model.wraps)
-        best = std::min(best, across[b * W + (c + 1) % W]);
-      nearest_[b * W + c] = best;
-    }
+  nearest_ = neighbourhoodMinimum(norm, image, true);
   descending_ = H < 2 || image.model.elevation[0] > image.model.elevation[H - 1];
   for (const double e : image.model.elevation)
     tangent_.push_back(std::tan(e));
