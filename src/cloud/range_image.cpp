@@ -295,7 +295,7 @@ SpinningSensorModel fitSpinningSensor(const std::vector<Eigen::Vector3d>& points
   for (std::size_t b = 0; b < height; ++b)
     for (std::size_t col = 0; col < width; ++col) {
       const Eigen::Vector3d& p = points[b * width + col];
-      if (!p.allFinite())
+      if (!isReturn(p))
         continue;
       const Eigen::Vector2d off = offRay(m, b, col, p);
       if (!off.allFinite() || std::abs(off.x()) > tolerance.x() || std::abs(off.y()) > tolerance.y()) {
@@ -378,7 +378,7 @@ RangeImage makeRangeImage(const std::vector<Eigen::Vector3d>& points, const Spin
   std::size_t finite = 0, off = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d& p = points[i];
-    if (!p.allFinite())
+    if (!isReturn(p))
       continue;
     ++finite;
     const Eigen::Vector3d& u = rays->direction[i];

@@ -460,4 +460,40 @@ TEST(RangeImageInpainter, DenoiseMovesPointsAlongTheirRaysAndKeepsTheGrid)
   EXPECT_LT(off_ray, 1e-5);
 }
 
+// A driver's "no return" written as (0, 0, 0) (Ouster's and Velodyne's ROS drivers) is no point:
+// the same fills as with NaN, and the zeros stay zeros where nothing was filled.
+TEST(RangeImageInpainter, ZerosAreNoReturnsAndStayZeros)
+{
+  const Scan& s = noisyScan();
+  auto with_nan = cloudOf(s);
+  auto with_zeros = std::make_shared<pcl::PointCloud<pcl::PointXYZI>>(*with_nan);
+  std::size_t zeros = 0;
+  for (auto& p : *with_zeros)
+    if (!std::isfinite(p.x)) {
+      p.x = p.y = p.z = 0.0f;
+      ++zeros;
+    }
+  ASSERT_GT(zeros, 500u);  // the sky
+  Inpainter a, b;
+  a.setMode(Inpainter::Mode::DenoiseAndComplete);
+  b.setMode(Inpainter::Mode::DenoiseAndComplete);
+  a.setInputCloud(with_nan);
+  b.setInputCloud(with_zeros);
+  pcl::PointCloud<pcl::PointXYZI> out_nan, out_zeros;
+  a.process(out_nan);
+  b.process(out_zeros);
+  ASSERT_TRUE(b.getReport().range_image);
+  EXPECT_EQ(b.getReport().off_ray_points, 0u);
+  ASSERT_EQ(out_nan.size(), out_zeros.size());
+  for (std::size_t i = 0; i < out_nan.size(); ++i) {
+    if (std::isfinite(out_nan[i].x)) {
+      EXPECT_EQ(out_nan[i].x, out_zeros[i].x) << i;
+      EXPECT_EQ(out_nan[i].z, out_zeros[i].z) << i;
+    } else {
+      EXPECT_EQ(out_zeros[i].x, 0.0f) << i;
+      EXPECT_EQ(out_zeros[i].z, 0.0f) << i;
+    }
+  }
+}
+
 }  // namespace

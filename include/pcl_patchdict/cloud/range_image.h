@@ -15,6 +15,10 @@
 namespace pcl {
 namespace patchdict {
 
+/** A measured point of a spinning LiDAR's frame: finite and not exactly at the sensor's origin —
+  * (0, 0, 0) is how Ouster's and Velodyne's ROS drivers write "no return" in organised clouds. */
+inline bool isReturn(const Eigen::Vector3d& p) { return p.allFinite() && !(p.x() == 0.0 && p.y() == 0.0 && p.z() == 0.0); }
+
 /** \brief The rays of a spinning LiDAR (Ouster, Velodyne, Hesai): rows are beams at fixed
   * elevations, columns azimuth steps of the turn, all in the sensor's frame (z the spin axis).
   *

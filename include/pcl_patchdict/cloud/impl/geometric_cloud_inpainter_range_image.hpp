@@ -230,6 +230,11 @@ void GeometricCloudInpainter<PointInT, PointOutT>::processRangeImage(const std::
         run.normal[std::size_t(i)] = detail::rangeGridNormal(run, image, std::size_t(i));
   }
   writeDepthOutput(run, R, o, output);
+  // A driver's "no return" written as (0, 0, 0) stays as written where nothing was filled.
+  const PointCloudIn& input = *input_;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!run.present[i] && input[i].x == 0.0f && input[i].y == 0.0f && input[i].z == 0.0f)
+      pcl::copyPoint(input[i], output[i]);
   interpolateFilledIntensity(run, output);
 }
 
