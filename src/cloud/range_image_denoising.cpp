@@ -180,7 +180,7 @@ void denoiseRangeImage(const RangeImage& image, const RangeNoiseModel& noise, co
   {
     Window window;
     window.reserve(spatial.size());
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 1)
     for (long long b = 0; b < rows; ++b)
       for (std::size_t c = 0; c < image.width; ++c) {
         const std::size_t i = std::size_t(b) * image.width + c;
