@@ -36,11 +36,15 @@ std::size_t removeGrossOutliers(std::vector<Eigen::Vector3d>& points, double fac
   }
   const double reach = factor * std::max(extent.maxCoeff(), 1e-12 * std::max(median.cwiseAbs().maxCoeff(), 1.0));
   std::size_t removed = 0;
-  for (const std::size_t i : finite)
-    if (!((points[i] - median).cwiseAbs().maxCoeff() <= reach)) {
-      points[i].setConstant(std::numeric_limits<double>::quiet_NaN());
+  const long long count = static_cast<long long>(finite.size());
+#pragma omp parallel for schedule(static) reduction(+ : removed)
+  for (long long k = 0; k < count; ++k) {
+    Eigen::Vector3d& p = points[finite[static_cast<std::size_t>(k)]];
+    if (!((p - median).cwiseAbs().maxCoeff() <= reach)) {
+      p.setConstant(std::numeric_limits<double>::quiet_NaN());
       ++removed;
     }
+  }
   return removed;
 }
 

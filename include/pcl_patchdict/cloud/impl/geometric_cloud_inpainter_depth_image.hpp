@@ -25,17 +25,23 @@ namespace detail {
 /// positions and normals as they are denoised and filled.
 struct DepthRun {
   DepthRun(const std::vector<Eigen::Vector3d>& points, const DepthImage& image_)
-      : image(image_), W(image_.width), H(image_.height), n(W * H),
-        measured(n, Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())), normal(n, Eigen::Vector3d::Zero()),
+      : image(image_), W(image_.width), H(image_.height), n(W * H), measured(n), position(n), normal(n),
         present(image_.valid)
   {
-    // Off-ray points are no measurements: from here on, a pixel is its depth image's.
+    // Off-ray points are no measurements: from here on, a pixel is its depth image's. Per pixel in
+    // parallel (each its own), the list of measured pixels after, in order.
+    const Eigen::Vector3d none = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    const long long pixels = static_cast<long long>(n);
+#pragma omp parallel for schedule(static)
+    for (long long k = 0; k < pixels; ++k) {
+      const std::size_t i = static_cast<std::size_t>(k);
+      measured[i] = position[i] = image.valid[i] ? points[i] : none;
+      normal[i].setZero();
+    }
+    queries.reserve(n);
     for (std::size_t i = 0; i < n; ++i)
-      if (image.valid[i]) {
-        measured[i] = points[i];
+      if (image.valid[i])
         queries.push_back(i);
-      }
-    position = measured;
   }
 
   Eigen::Vector3d ray(std::size_t i) const { return image.camera.pointAt(double(i % W), double(i / W), 1.0); }
@@ -122,7 +128,9 @@ void GeometricCloudInpainter<PointInT, PointOutT>::denoiseDepthInImage(detail::D
   for (long long q = 0; q < queries; ++q) {
     const std::size_t i = run.queries[std::size_t(q)];
     run.position[i] = camera.pointAt(double(i % W), double(i / W), depth[i]);
-    if (!run.position[i].allFinite() || free_space.violates(run.position[i])) {
+    // A point moved away along its own ray is behind its own measurement, which its neighbourhood's
+    // nearest depth never exceeds: only moves towards the camera need the test.
+    if (!run.position[i].allFinite() || (depth[i] < image.depth[i] && free_space.violates(run.position[i]))) {
       run.position[i] = run.measured[i];
       ++reverted;
     }
@@ -216,9 +224,15 @@ void GeometricCloudInpainter<PointInT, PointOutT>::fillDepthHoles(detail::DepthR
   // The denoised depths, when denoised first; in Complete mode the image as it is (no copy).
   DepthImage denoised;
   if (mode_ != Mode::Complete) {
-    denoised = run.image;
-    for (std::size_t i = 0; i < run.n; ++i) {
-      denoised.valid[i] = run.present[i];
+    denoised.width = run.image.width;
+    denoised.height = run.image.height;
+    denoised.camera = run.image.camera;
+    denoised.valid = run.present;
+    denoised.depth.resize(run.n);
+    const long long pixels = static_cast<long long>(run.n);
+#pragma omp parallel for schedule(static)
+    for (long long k = 0; k < pixels; ++k) {
+      const std::size_t i = static_cast<std::size_t>(k);
       denoised.depth[i] = run.present[i] ? run.position[i].z() : std::numeric_limits<double>::quiet_NaN();
     }
   }
