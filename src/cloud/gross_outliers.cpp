@@ -18,10 +18,12 @@ std::size_t removeGrossOutliers(std::vector<Eigen::Vector3d>& points, double fac
     return 0;
   // At most ~100k evenly spaced samples for the quantiles: the same for the same input.
   const std::size_t stride = std::max<std::size_t>(1, finite.size() / 100000);
+  // The three axes' quantiles side by side (each its own samples): the same values on any thread count.
   Eigen::Vector3d median, extent;
-  std::vector<double> values;
+#pragma omp parallel for schedule(static, 1)
   for (int axis = 0; axis < 3; ++axis) {
-    values.clear();
+    std::vector<double> values;
+    values.reserve(finite.size() / stride + 1);
     for (std::size_t k = 0; k < finite.size(); k += stride)
       values.push_back(points[finite[k]][axis]);
     // The median first; the quartiles then lie in its lower and upper parts (nth_element leaves them

@@ -375,6 +375,15 @@ RangeImage makeRangeImage(const std::vector<Eigen::Vector3d>& points, const Spin
   // (tangents of the two angles), against half a step each.
   const Eigen::Vector2d tolerance = rayTolerance(model);
   const double tan_az = std::tan(tolerance.x()), tan_el = std::tan(tolerance.y());
+  // A range beyond 1000 × (or below 1/1000 of) the frame's typical one is no measurement (a
+  // coordinate no sensor measured), as for a depth image; the typical range from ~4k points.
+  std::vector<double> sample;
+  for (std::size_t i = 0; i < n; i += std::max<std::size_t>(1, n / 4096))
+    if (isReturn(points[i]))
+      sample.push_back((points[i] - rays->origin[i]).norm());
+  std::nth_element(sample.begin(), sample.begin() + std::ptrdiff_t(sample.size() / 2), sample.end());
+  const double typical = sample.empty() ? 0.0 : sample[sample.size() / 2];
+  const double far = typical > 0.0 ? 1000.0 * typical : std::numeric_limits<double>::infinity(), near = typical / 1000.0;
   std::size_t finite = 0, off = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d& p = points[i];
@@ -387,7 +396,8 @@ RangeImage makeRangeImage(const std::vector<Eigen::Vector3d>& points, const Spin
     const double inverse_horizontal = inverse_cos[i / model.width];
     const Eigen::Vector3d e_az(-u.y() * inverse_horizontal, u.x() * inverse_horizontal, 0.0);
     const Eigen::Vector3d e_el = e_az.cross(u);  // towards the elevation's increase (or its opposite)
-    if (!(along > 0.0) || std::abs(q.dot(e_az)) > tan_az * along || std::abs(q.dot(e_el)) > tan_el * along) {
+    if (!(along > near) || !(along < far) || std::abs(q.dot(e_az)) > tan_az * along ||
+        std::abs(q.dot(e_el)) > tan_el * along) {
       ++off;
       continue;
     }

@@ -100,8 +100,8 @@ SpinningSensorModel fitSpinningSensor(const std::vector<Eigen::Vector3d>& points
                                       std::size_t height);
 
 /** The range image of a cloud on a model (fitted, or given for a stream of frames). Points over half
-  * a step off their pixel's ray, or not in front of it, are no measurements (counted in
-  * model.off_ray). Throws pcl::patchdict::Error when a given model does not fit: another width or
+  * a step off their pixel's ray, not in front of it, or at a range 1000 × off the frame's typical
+  * one, are no measurements (counted in model.off_ray). Throws pcl::patchdict::Error when a given model does not fit: another width or
   * height, or more than 10 % of the finite points off their rays (a frame of another sensor). */
 RangeImage makeRangeImage(const std::vector<Eigen::Vector3d>& points, const SpinningSensorModel& model);
 /** The same on the model's rays computed beforehand (spinningRays): a stream computes them once. */

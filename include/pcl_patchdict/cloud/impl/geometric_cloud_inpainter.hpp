@@ -94,7 +94,12 @@ void GeometricCloudInpainter<PointInT, PointOutT>::readInput(detail::CloudRun& r
     if (!points[i].allFinite())
       points[i].setConstant(std::numeric_limits<double>::quiet_NaN());
   }
-  report_.gross_outliers = removeGrossOutliers(points);
+  // A whole organised frame on a given sensor model needs no such guard: a coordinate no sensor
+  // measured (a depth of 1e30) is off its pixel's ray, or 1000 × off the frame's typical depth or
+  // range, and no measurement there either (depthImageOnCamera, makeRangeImage).
+  const bool on_model = has_sensor_model_ && keep_organized_ && input.height > 1 && indices_->size() == input.size();
+  if (!on_model)
+    report_.gross_outliers = removeGrossOutliers(points);
   if constexpr (pcl::traits::has_normal_v<PointInT>) {
     run.normals.resize(input.size(), Eigen::Vector3d::Zero());
     for (std::size_t i = 0; i < input.size(); ++i) {
