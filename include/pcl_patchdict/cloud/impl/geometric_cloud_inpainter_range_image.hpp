@@ -180,7 +180,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::processRangeImage(const std::
   grid.height = image.height;
   grid.valid = image.valid;
   grid.depth = image.range;
-  detail::DepthRun run(points, grid);
+  detail::DepthRun run(points, grid, pcl::traits::has_normal_v<PointOutT>);
   if (mode_ != Mode::Complete && run.queries.size() < 100)
     throw Error("the frame has " + std::to_string(run.queries.size()) + " measured pixels; denoising needs at least 100");
   const double typical = detail::medianRange(image);
