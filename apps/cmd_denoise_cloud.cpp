@@ -60,7 +60,6 @@ struct CloudRepairResult {
   pcl::Indices filled;   ///< a depth image's filled pixels
   CloudPatchReport patches;  ///< the patch stage of an unorganised fill
   CloudPatchReport denoise_patches;  ///< …and of the denoising
-  bool ring_grid = false;            ///< an unorganised scan repaired on its ring grid
   std::size_t removed() const
   {
     return report.outlier_filter_removed + report.residual_removed + report.unfit_removed;
@@ -177,7 +176,6 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
     result.report.output_points = cloud->size();  // every input point, then the filled pixels
     result.report.input_points = cloud->size();
     result.filled.clear();
-    result.ring_grid = true;
   }
   return result;
 }
@@ -233,41 +231,24 @@ void noteCloudRepair(const CloudRepairLine& line, const CloudRepairResult& resul
 }
 
 // 4b. A range image's filled pixels keep their own records (ring, time…); a float intensity field is
-// interpolated: the inverse-distance mean of the nearest measured pixel in each grid direction.
+// interpolated from the measured pixels around them (interpolateAtFilledPixels, as the library does).
 void interpolateIntensity(pcl::PCLPointCloud2& blob, const CloudInput& input, const CloudRepairResult& result)
 {
   const pcl::PCLPointField* field = findScalarField(blob, "intensity");
   if (!field || !result.report.range_image)
     return;
-  const std::size_t W = blob.width, H = blob.height;
-  std::vector<char> measured(W * H, 0);
-  for (std::size_t i = 0; i < W * H; ++i)
-    measured[i] = std::isfinite((*input.cloud)[i].x);
-  for (const auto index : result.filled) {
-    const std::size_t i = static_cast<std::size_t>(index), b = i / W, c = i % W;
-    double sum = 0.0, weights = 0.0;
-    const auto look = [&](long long db, long long dc) {
-      for (long long d = 1; d < static_cast<long long>(W); ++d) {
-        const long long bb = static_cast<long long>(b) + d * db;
-        if (bb < 0 || bb >= static_cast<long long>(H))
-          return;
-        const std::size_t j = static_cast<std::size_t>(bb) * W +
-                              static_cast<std::size_t>((static_cast<long long>(c) + d * dc + static_cast<long long>(W) * d) %
-                                                       static_cast<long long>(W));
-        if (measured[j]) {
-          sum += readScalar(blob, j, *field) / double(d);
-          weights += 1.0 / double(d);
-          return;
-        }
-      }
-    };
-    look(0, 1);
-    look(0, -1);
-    look(1, 0);
-    look(-1, 0);
-    if (weights > 0.0)
-      writeScalar(blob, i, *field, sum / weights);
+  const std::size_t n = std::size_t(blob.width) * blob.height;
+  std::vector<char> measured(n, 0);
+  std::vector<double> values(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& p = (*input.cloud)[i];
+    measured[i] = isReturn(Eigen::Vector3d(p.x, p.y, p.z));
+    values[i] = readScalar(blob, i, *field);
   }
+  const std::vector<std::size_t> filled(result.filled.begin(), result.filled.end());
+  interpolateAtFilledPixels(values, measured, blob.width, blob.height, result.report.spinning.wraps, filled);
+  for (const std::size_t i : filled)
+    writeScalar(blob, i, *field, values[i]);
 }
 
 // 4a. A PCD read from a PCD: every field carried, the input's records with positions (and normals,

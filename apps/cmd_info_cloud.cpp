@@ -44,22 +44,6 @@ double medianSpacing(const pcl::PointCloud<pcl::PointNormal>::Ptr& cloud)
   return nearest[nearest.size() / 2];
 }
 
-// The sensor of an organised frame, in its own frame or else in its pose's (as the repairs read it).
-SensorModel organisedSensorModel(const CloudInput& input, const std::vector<Eigen::Vector3d>& points)
-{
-  const auto& cloud = *input.cloud;
-  SensorModel model = estimateSensorModel(points, cloud.width, cloud.height);
-  const Eigen::Matrix3d R = cloud.sensor_orientation_.cast<double>().normalized().toRotationMatrix();
-  const Eigen::Vector3d o = cloud.sensor_origin_.head<3>().cast<double>();
-  if (model.kind != SensorModel::Kind::None || (R.isIdentity(1e-12) && o.isZero(0.0)))
-    return model;
-  std::vector<Eigen::Vector3d> local(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i)
-    local[i] = R.transpose() * (points[i] - o);
-  const SensorModel posed = estimateSensorModel(local, cloud.width, cloud.height);
-  return posed.kind != SensorModel::Kind::None ? posed : model;
-}
-
 // A spinning LiDAR's beams and range noise: the summary lines, and the JSON.
 std::string describeSpinning(const SensorModel& model, JsonObject& json)
 {
@@ -113,12 +97,12 @@ int runCloudInfo(const Arguments& args)
   const bool organised = cloud.height > 1;
   RingScan ring_scan;
   const bool by_ring = !organised && readRingScan(input, ring_scan);
-  const SensorModel model = organised ? organisedSensorModel(input, points)
+  // The sensor, looked for in the frames the repairs look in (sensorFrames).
+  const SensorModel model = organised ? estimateSensorModel(points, cloud.width, cloud.height, sensorPoseOf(cloud))
                             : by_ring ? estimateSensorModel(ring_scan.sensor_points, ring_scan.grid.width,
                                                             ring_scan.grid.height)
                                       : SensorModel{};
-  DepthImage image;
-  image.camera = model.camera;
+  const PinholeCamera& pinhole = model.camera;
   const DepthNoiseModel& law = model.depth_noise;
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   const bool height_field = !organised && isHeightFieldCloud(points, &up);
@@ -146,23 +130,23 @@ int runCloudInfo(const Arguments& args)
   std::snprintf(line, sizeof line, "\n  spacing %.4g (median nearest neighbour)%s", spacing,
                 height_field ? ", 2.5-D (a height field over its dominant plane)" : "");
   summary += line;
-  if (image.camera.valid) {
+  if (pinhole.valid) {
     JsonObject camera, noise;
-    camera.add("fx", image.camera.fx).add("fy", image.camera.fy).add("cx", image.camera.cx).add("cy", image.camera.cy)
-        .add("rms_pixels", image.camera.rms_pixels).add("off_ray_points", image.camera.off_ray);
+    camera.add("fx", pinhole.fx).add("fy", pinhole.fy).add("cx", pinhole.cx).add("cy", pinhole.cy)
+        .add("rms_pixels", pinhole.rms_pixels).add("off_ray_points", pinhole.off_ray);
     const double low = law.depth_low, high = law.depth_high;
     noise.add("coefficient", law.coefficient).add("exponent", law.exponent).add("exponent_fitted", law.exponent_fitted)
         .add("samples", law.samples).add("depth_low", low).add("depth_high", high)
         .add("sigma_at_depth_low", law.sigma(low)).add("sigma_at_depth_high", law.sigma(high))
-        .add("spacing_at_depth_low", image.camera.pixelSpacing(low))
-        .add("spacing_at_depth_high", image.camera.pixelSpacing(high));
+        .add("spacing_at_depth_low", pinhole.pixelSpacing(low))
+        .add("spacing_at_depth_high", pinhole.pixelSpacing(high));
     json.add("camera", camera).add("depth_noise", noise);
     std::snprintf(line, sizeof line,
                   "\n  depth image: camera f %.1f x %.1f, centre (%.1f, %.1f), %zu points off their rays"
                   "\n  depth %.3g to %.3g (5th-95th percentile): pixel spacing %.3g to %.3g, noise %.3g to %.3g"
                   " (sigma = %.3g z^%.2f, %s)",
-                  image.camera.fx, image.camera.fy, image.camera.cx, image.camera.cy, image.camera.off_ray, low, high,
-                  image.camera.pixelSpacing(low), image.camera.pixelSpacing(high), law.sigma(low), law.sigma(high),
+                  pinhole.fx, pinhole.fy, pinhole.cx, pinhole.cy, pinhole.off_ray, low, high,
+                  pinhole.pixelSpacing(low), pinhole.pixelSpacing(high), law.sigma(low), law.sigma(high),
                   law.coefficient, law.exponent, law.exponent_fitted ? "exponent fitted" : "exponent 2 assumed");
     summary += line;
   } else if (model.kind == SensorModel::Kind::Spinning) {

@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <utility>
 #include <complex>
 #include <limits>
 
@@ -528,6 +529,35 @@ bool OriginFreeSpace::violates(const Eigen::Vector3d& p, std::size_t own) const
   const double d = nearest_[i];
   const double tolerance = std::max(spacing_factor_ * d * std::abs(m.azimuth_step), relative_range_ * d);
   return p.norm() < d - tolerance;
+}
+
+void interpolateAtFilledPixels(std::vector<double>& values, const std::vector<char>& measured, std::size_t width,
+                               std::size_t height, bool wraps, const std::vector<std::size_t>& filled)
+{
+  const long long W = static_cast<long long>(width), H = static_cast<long long>(height);
+  std::vector<double> result(filled.size());
+  for (std::size_t k = 0; k < filled.size(); ++k) {
+    const long long b = static_cast<long long>(filled[k]) / W, c = static_cast<long long>(filled[k]) % W;
+    double sum = 0.0, weights = 0.0;
+    for (const auto& [db, dc] : {std::pair<int, int>{0, 1}, {0, -1}, {1, 0}, {-1, 0}})
+      for (long long d = 1; d < std::max(W, H); ++d) {
+        const long long bb = b + d * db;
+        long long cc = c + d * dc;
+        if (wraps)
+          cc = ((cc % W) + W) % W;
+        if (bb < 0 || bb >= H || cc < 0 || cc >= W || (dc != 0 && d >= W))
+          break;
+        const std::size_t j = static_cast<std::size_t>(bb * W + cc);
+        if (measured[j]) {
+          sum += values[j] / double(d);
+          weights += 1.0 / double(d);
+          break;
+        }
+      }
+    result[k] = weights > 0.0 ? sum / weights : values[filled[k]];
+  }
+  for (std::size_t k = 0; k < filled.size(); ++k)  // after: a filled pixel never reads another's new value
+    values[filled[k]] = result[k];
 }
 
 }  // namespace patchdict

@@ -84,27 +84,60 @@ const char* sensorKindName(SensorModel::Kind kind)
   return kind == SensorModel::Kind::Pinhole ? "pinhole" : kind == SensorModel::Kind::Spinning ? "spinning" : "none";
 }
 
+std::vector<SensorPose> sensorFrames(const SensorPose& pose, SensorModel::Kind kind)
+{
+  if (pose.isIdentity())
+    return {SensorPose{}};
+  return kind == SensorModel::Kind::Spinning ? std::vector<SensorPose>{pose, SensorPose{}}
+                                             : std::vector<SensorPose>{SensorPose{}, pose};
+}
+
+std::vector<Eigen::Vector3d> toSensorFrame(const std::vector<Eigen::Vector3d>& points, const SensorPose& frame)
+{
+  std::vector<Eigen::Vector3d> local(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    local[i] = frame.R.transpose() * (points[i] - frame.o);
+  return local;
+}
+
 SensorModel estimateSensorModel(const std::vector<Eigen::Vector3d>& points, std::size_t width, std::size_t height)
+{
+  return estimateSensorModel(points, width, height, SensorPose{});
+}
+
+SensorModel estimateSensorModel(const std::vector<Eigen::Vector3d>& points, std::size_t width, std::size_t height,
+                                const SensorPose& pose, SensorPose* found)
 {
   SensorModel model;
   model.width = width;
   model.height = height;
-  if (height > 1) {
-    const DepthImage depth = makeDepthImage(points, width, height);
+  const auto inFrame = [&](const SensorPose& frame) {
+    return frame.isIdentity() ? points : toSensorFrame(points, frame);
+  };
+  for (const SensorPose& frame : height > 1 ? sensorFrames(pose, SensorModel::Kind::Pinhole) : std::vector<SensorPose>{}) {
+    const std::vector<Eigen::Vector3d> local = inFrame(frame);
+    const DepthImage depth = makeDepthImage(local, width, height);
     if (depth.camera.valid) {
       model.kind = SensorModel::Kind::Pinhole;
       model.camera = depth.camera;
       model.depth_noise = estimateDepthNoise(depth);
+      if (found)
+        *found = frame;
       return model;
     }
   }
-  model.spinning = fitSpinningSensor(points, width, height);
-  if (!model.spinning.valid) {
-    model.failure = "neither a pinhole image nor a spinning sensor's grid: " + model.spinning.failure;
-    return model;
+  for (const SensorPose& frame : sensorFrames(pose, SensorModel::Kind::Spinning)) {
+    const std::vector<Eigen::Vector3d> local = inFrame(frame);
+    model.spinning = fitSpinningSensor(local, width, height);
+    if (model.spinning.valid) {
+      model.kind = SensorModel::Kind::Spinning;
+      model.range_noise = estimateRangeNoise(makeRangeImage(local, model.spinning));
+      if (found)
+        *found = frame;
+      return model;
+    }
   }
-  model.kind = SensorModel::Kind::Spinning;
-  model.range_noise = estimateRangeNoise(makeRangeImage(points, model.spinning));
+  model.failure = "neither a pinhole image nor a spinning sensor's grid: " + model.spinning.failure;
   return model;
 }
 

@@ -244,10 +244,9 @@ public:
   void setSensorModel(const SensorModel& model)
   {
     sensor_model_ = model;
-    has_sensor_model_ = model.kind != SensorModel::Kind::None;
     rays_ = model.kind == SensorModel::Kind::Spinning && model.spinning.valid ? spinningRays(model.spinning) : nullptr;
   }
-  void clearSensorModel() { has_sensor_model_ = false; }
+  void clearSensorModel() { setSensorModel(SensorModel{}); }
   /** The sensor model of the last organised input processed (given, or estimated from it); kind None
     * when the last input was not organised or neither model fits it. */
   const SensorModel& getSensorModel() const { return used_sensor_model_; }
@@ -303,7 +302,7 @@ private:
   void fillDepthHoles(detail::DepthRun& run);
   void writeDepthOutput(const detail::DepthRun& run, const Eigen::Matrix3d& R, const Eigen::Vector3d& o,
                         PointCloudOut& output);
-  void interpolateFilledIntensity(const detail::DepthRun& run, PointCloudOut& output) const;
+  void interpolateFilledIntensity(const detail::DepthRun& run, bool wraps, PointCloudOut& output) const;
   /** Position (and normal, if the type has one) of an output point; its other fields are copied. */
   static void place(PointOutT& out, const Eigen::Vector3d& position, const Eigen::Vector3d& normal);
 
@@ -324,7 +323,7 @@ private:
   bool keep_organized_ = true;
   SensorModel sensor_model_, used_sensor_model_;
   std::shared_ptr<const SpinningRays> rays_;  // the given spinning model's rays, computed once
-  bool has_sensor_model_ = false;
+  bool sensorModelGiven() const { return sensor_model_.kind != SensorModel::Kind::None; }
   RangeFillParameters range_fill_;
   RangeDenoisingParameters range_denoising_;
   CloudDenoisingReport report_;

@@ -131,6 +131,12 @@ struct RangeNoiseModel {
   * or 64 mm (ranges in metres) on which the ranges sit: the circular mean of exp(2πiρ/q) above 0.5. */
 RangeNoiseModel estimateRangeNoise(const RangeImage& image, std::size_t stride = 2);
 
+/** A field's values (intensity, reflectivity…) at filled pixels of a W × H grid: the inverse-distance
+  * mean of the nearest measured pixel in each of the four grid directions (the columns wrapping when
+  * `wraps`); pixels without a measured one in any direction keep theirs. */
+void interpolateAtFilledPixels(std::vector<double>& values, const std::vector<char>& measured, std::size_t width,
+                               std::size_t height, bool wraps, const std::vector<std::size_t>& filled);
+
 /** A spinning sensor's free space: the smallest measured range among a pixel's 8 neighbours
   * (azimuth wrapping when the model wraps; beams do not; infinity where none is measured). A point
   * placed, or moved, on pixel i's ray nearer than that would be in space the beams crossed. */

@@ -29,11 +29,42 @@ struct SensorModel {
 /** "pinhole", "spinning" or "none". */
 const char* sensorKindName(SensorModel::Kind kind);
 
+/** Where a sensor was: x_cloud = R·x_sensor + o (a PCL cloud's sensor_orientation_ and sensor_origin_). */
+struct SensorPose {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d o = Eigen::Vector3d::Zero();
+  bool isIdentity() const { return R.isIdentity(1e-12) && o.isZero(0.0); }
+};
+
+/** The pose a PCL cloud records (any type with sensor_origin_ and sensor_orientation_). */
+template <typename Cloud>
+SensorPose sensorPoseOf(const Cloud& cloud)
+{
+  SensorPose pose;
+  pose.R = cloud.sensor_orientation_.template cast<double>().normalized().toRotationMatrix();
+  pose.o = cloud.sensor_origin_.template head<3>().template cast<double>();
+  return pose;
+}
+
+/** The frames an organised grid of a sensor of `kind` is looked for in, in order: a pinhole camera's
+  * in the cloud's own frame first (as grabbers write it), then in its pose; a spinning sensor's in
+  * its pose first (as drivers set it), then in the cloud's own frame. The pose is tried only when it
+  * is not the identity. */
+std::vector<SensorPose> sensorFrames(const SensorPose& pose, SensorModel::Kind kind);
+
+/** The points in a sensor's frame: Rᵀ·(x − o). */
+std::vector<Eigen::Vector3d> toSensorFrame(const std::vector<Eigen::Vector3d>& points, const SensorPose& frame);
+
 /** The sensor of an organised grid of points in the sensor's frame: a pinhole camera when the grid
   * is a pinhole image (makeDepthImage), else a spinning LiDAR when its rows are beams and its columns
   * azimuth steps (fitSpinningSensor), each with its noise law estimated from these points; kind
   * None (and failure) otherwise. */
 SensorModel estimateSensorModel(const std::vector<Eigen::Vector3d>& points, std::size_t width, std::size_t height);
+
+/** The same for a cloud seen from `pose`, each kind in the frames sensorFrames names for it (the
+  * repairs' order); `found`, when given, receives the frame the model was found in. */
+SensorModel estimateSensorModel(const std::vector<Eigen::Vector3d>& points, std::size_t width, std::size_t height,
+                                const SensorPose& pose, SensorPose* found = nullptr);
 
 /** The depth image of an organised grid on a given camera (a stream's model; nothing is fitted):
   * points within max_reprojection pixels of their own pixel, at a depth within 1000× of the median,

@@ -37,6 +37,26 @@ struct CloudRun {
   std::vector<std::size_t> added_source;
 };
 
+/// A cloud's points and normals in one of its sensor's frames (sensorFrames): in the cloud's own
+/// frame they are the run's, not a copy.
+struct FramedPoints {
+  FramedPoints(const CloudRun& run_, const SensorPose& frame_) : run(run_), frame(frame_), own(frame_.isIdentity())
+  {
+    if (own)
+      return;
+    moved_points = toSensorFrame(run.points, frame);
+    moved_normals.resize(run.normals.size());
+    for (std::size_t i = 0; i < run.normals.size(); ++i)
+      moved_normals[i] = frame.R.transpose() * run.normals[i];
+  }
+  const std::vector<Eigen::Vector3d>& points() const { return own ? run.points : moved_points; }
+  const std::vector<Eigen::Vector3d>& normals() const { return own ? run.normals : moved_normals; }
+  const CloudRun& run;
+  const SensorPose frame;
+  const bool own;
+  std::vector<Eigen::Vector3d> moved_points, moved_normals;
+};
+
 }  // namespace detail
 
 template <typename PointInT, typename PointOutT>
@@ -51,7 +71,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::performProcessing(PointCloudO
   readInput(run);
   used_sensor_model_ = SensorModel{};
   if (run.identity && input.height > 1 && keep_organized_ &&
-      (has_sensor_model_ ? processOnSensorModel(run, output)
+      (sensorModelGiven() ? processOnSensorModel(run, output)
                          : processAsDepthImage(run, output) || processAsRangeImage(run, output)))
     return;
 
@@ -97,7 +117,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::readInput(detail::CloudRun& r
   // A whole organised frame on a given sensor model needs no such guard: a coordinate no sensor
   // measured (a depth of 1e30) is off its pixel's ray, or 1000 × off the frame's typical depth or
   // range, and no measurement there either (depthImageOnCamera, makeRangeImage).
-  const bool on_model = has_sensor_model_ && keep_organized_ && input.height > 1 && indices_->size() == input.size();
+  const bool on_model = sensorModelGiven() && keep_organized_ && input.height > 1 && indices_->size() == input.size();
   if (!on_model)
     report_.gross_outliers = removeGrossOutliers(points);
   if constexpr (pcl::traits::has_normal_v<PointInT>) {
@@ -127,28 +147,11 @@ bool GeometricCloudInpainter<PointInT, PointOutT>::processAsDepthImage(const det
   const PointCloudIn& input = *input_;
   // The grid is a pinhole image in the cloud's own frame (as grabbers write it), or else in the
   // frame of its sensor pose (sensor_origin_, sensor_orientation_).
-  const Eigen::Matrix3d pose_R = input.sensor_orientation_.template cast<double>().normalized().toRotationMatrix();
-  const Eigen::Vector3d pose_o = input.sensor_origin_.template head<3>().template cast<double>();
-  for (int frame = 0; frame < 2; ++frame) {
-    const Eigen::Matrix3d R = frame == 0 ? Eigen::Matrix3d::Identity() : pose_R;
-    const Eigen::Vector3d o = frame == 0 ? Eigen::Vector3d::Zero() : pose_o;
-    if (frame == 1 && R.isIdentity(1e-12) && o.isZero(0.0))
-      break;
-    // The cloud's own frame needs no copy of its points.
-    std::vector<Eigen::Vector3d> moved, moved_normals;
-    if (frame == 1) {
-      moved.resize(run.points.size());
-      moved_normals.resize(run.normals.size());
-      for (std::size_t i = 0; i < run.points.size(); ++i)
-        moved[i] = R.transpose() * (run.points[i] - o);
-      for (std::size_t i = 0; i < run.normals.size(); ++i)
-        moved_normals[i] = R.transpose() * run.normals[i];
-    }
-    const std::vector<Eigen::Vector3d>& local = frame == 0 ? run.points : moved;
-    const std::vector<Eigen::Vector3d>& local_normals = frame == 0 ? run.normals : moved_normals;
-    const DepthImage image = makeDepthImage(local, input.width, input.height);
+  for (const SensorPose& frame : sensorFrames(sensorPoseOf(input), SensorModel::Kind::Pinhole)) {
+    const detail::FramedPoints local(run, frame);
+    const DepthImage image = makeDepthImage(local.points(), input.width, input.height);
     if (image.camera.valid) {
-      processDepthImage(local, local_normals, image, R, o, output);
+      processDepthImage(local.points(), local.normals(), image, frame.R, frame.o, output);
       return true;
     }
   }

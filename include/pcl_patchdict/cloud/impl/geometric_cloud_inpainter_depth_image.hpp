@@ -84,7 +84,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::processDepthImage(const std::
   report_.input_points = n;
   report_.nonfinite_points = n - image.measured();  // NaN pixels and off-ray points
   const auto start = std::chrono::steady_clock::now();
-  const bool given = has_sensor_model_ && sensor_model_.kind == SensorModel::Kind::Pinhole;
+  const bool given = sensorModelGiven() && sensor_model_.kind == SensorModel::Kind::Pinhole;
   report_.depth_noise = given ? sensor_model_.depth_noise : estimateDepthNoise(image);
   report_.sensor_model_given = given;
   used_sensor_model_.kind = SensorModel::Kind::Pinhole;
@@ -286,6 +286,10 @@ void GeometricCloudInpainter<PointInT, PointOutT>::writeDepthOutput(const detail
     PointOutT& out = output[i];
     pcl::copyPoint(input[i], out);
     if (!run.present[i]) {
+      // No point here: NaN, unless the input marked it "no return" as some drivers do, with
+      // (0, 0, 0) (isReturn): that stays as written.
+      if (input[i].x == 0.0f && input[i].y == 0.0f && input[i].z == 0.0f)
+        continue;
       out.x = out.y = out.z = fnan;
       if constexpr (pcl::traits::has_normal_v<PointOutT>)
         out.normal_x = out.normal_y = out.normal_z = fnan;

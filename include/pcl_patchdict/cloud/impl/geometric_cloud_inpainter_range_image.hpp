@@ -18,11 +18,6 @@ namespace pcl {
 namespace patchdict {
 namespace detail {
 
-template <typename T, typename = void>
-struct HasIntensity : std::false_type {};
-template <typename T>
-struct HasIntensity<T, std::void_t<decltype(std::declval<T&>().intensity)>> : std::true_type {};
-
 /** A pixel's normal from the grid (central differences of the present neighbours, the azimuth
   * wrapping), facing its beam's origin. */
 inline Eigen::Vector3d rangeGridNormal(const DepthRun& run, const RangeImage& image, std::size_t i)
@@ -62,28 +57,21 @@ bool GeometricCloudInpainter<PointInT, PointOutT>::processAsRangeImage(const det
 {
   const PointCloudIn& input = *input_;
   // The sensor's frame: its pose (sensor_origin_, sensor_orientation_), else the cloud's own.
-  const Eigen::Matrix3d pose_R = input.sensor_orientation_.template cast<double>().normalized().toRotationMatrix();
-  const Eigen::Vector3d pose_o = input.sensor_origin_.template head<3>().template cast<double>();
-  const bool posed = !(pose_R.isIdentity(1e-12) && pose_o.isZero(0.0));
   std::string failure;
-  for (int frame = posed ? 0 : 1; frame < 2; ++frame) {
-    const Eigen::Matrix3d R = frame == 0 ? pose_R : Eigen::Matrix3d::Identity();
-    const Eigen::Vector3d o = frame == 0 ? pose_o : Eigen::Vector3d::Zero();
+  for (const SensorPose& frame : sensorFrames(sensorPoseOf(input), SensorModel::Kind::Spinning)) {
     const auto start = std::chrono::steady_clock::now();
-    std::vector<Eigen::Vector3d> local(run.points.size());
-    for (std::size_t i = 0; i < run.points.size(); ++i)
-      local[i] = R.transpose() * (run.points[i] - o);
-    const SpinningSensorModel model = fitSpinningSensor(local, input.width, input.height);
+    const detail::FramedPoints local(run, frame);
+    const SpinningSensorModel model = fitSpinningSensor(local.points(), input.width, input.height);
     if (!model.valid && model.rows_are_beams)
       throw Error("the cloud's rows are a spinning LiDAR's beams, but its grid is not one: " + model.failure);
     if (!model.valid) {
       failure = model.failure;
       continue;
     }
-    const RangeImage image = makeRangeImage(local, model);
+    const RangeImage image = makeRangeImage(local.points(), model);
     const RangeNoiseModel noise = estimateRangeNoise(image);
     report_.seconds_sensor_model = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    processRangeImage(local, image, noise, R, o, output);
+    processRangeImage(local.points(), image, noise, frame.R, frame.o, output);
     return true;
   }
   // A spinning sensor's grid written with its beams as columns would be repaired as something else.
@@ -109,49 +97,32 @@ bool GeometricCloudInpainter<PointInT, PointOutT>::processOnSensorModel(const de
   if (input.width != model.width || input.height != model.height)
     throw Error("the frame is " + std::to_string(input.width) + " x " + std::to_string(input.height) +
                 "; the sensor model given is " + std::to_string(model.width) + " x " + std::to_string(model.height));
-  const Eigen::Matrix3d pose_R = input.sensor_orientation_.template cast<double>().normalized().toRotationMatrix();
-  const Eigen::Vector3d pose_o = input.sensor_origin_.template head<3>().template cast<double>();
-  const bool posed = !(pose_R.isIdentity(1e-12) && pose_o.isZero(0.0));
   const bool spinning = model.kind == SensorModel::Kind::Spinning;
-  // Frames to try: a pinhole grid in the cloud's own frame first (as grabbers write it), a spinning
-  // sensor's in its pose first; the error of the last one tried is the one reported.
-  std::vector<int> frames = spinning ? std::vector<int>{0, 1} : std::vector<int>{1, 0};
-  if (!posed)
-    frames = {1};
+  // The image on the model in the first of its frames it fits (the error of the last one tried is the
+  // one reported); only making the image is tried, the repair runs once, outside.
+  const std::vector<SensorPose> frames = sensorFrames(sensorPoseOf(input), model.kind);
   for (std::size_t k = 0; k < frames.size(); ++k) {
-    const Eigen::Matrix3d R = frames[k] == 0 ? pose_R : Eigen::Matrix3d::Identity();
-    const Eigen::Vector3d o = frames[k] == 0 ? pose_o : Eigen::Vector3d::Zero();
     const auto start = std::chrono::steady_clock::now();
-    // The points in the sensor's frame (the cloud's own when it is the sensor's: no copy).
-    std::vector<Eigen::Vector3d> moved_points, local_normals;
-    const bool own_frame = frames[k] == 1;
-    if (!own_frame) {
-      moved_points.resize(run.points.size());
-      for (std::size_t i = 0; i < run.points.size(); ++i)
-        moved_points[i] = R.transpose() * (run.points[i] - o);
-    }
-    const std::vector<Eigen::Vector3d>& local = own_frame ? run.points : moved_points;
-    if (!spinning) {
-      local_normals.resize(run.normals.size());
-      for (std::size_t i = 0; i < run.normals.size(); ++i)
-        local_normals[i] = R.transpose() * run.normals[i];
-    }
+    const detail::FramedPoints local(run, frames[k]);
+    RangeImage range;
+    DepthImage depth;
     try {
-      if (spinning) {
-        const RangeImage image = makeRangeImage(local, model.spinning, rays_);
-        report_.seconds_sensor_model = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        report_.sensor_model_given = true;
-        processRangeImage(local, image, model.range_noise, R, o, output);
-      } else {
-        const DepthImage image = depthImageOnCamera(local, input.width, input.height, model.camera);
-        report_.seconds_sensor_model = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        processDepthImage(local, local_normals, image, R, o, output);
-      }
-      return true;
+      if (spinning)
+        range = makeRangeImage(local.points(), model.spinning, rays_);
+      else
+        depth = depthImageOnCamera(local.points(), input.width, input.height, model.camera);
     } catch (const Error&) {
       if (k + 1 == frames.size())
         throw;
+      continue;
     }
+    report_.seconds_sensor_model = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    report_.sensor_model_given = true;
+    if (spinning)
+      processRangeImage(local.points(), range, model.range_noise, frames[k].R, frames[k].o, output);
+    else
+      processDepthImage(local.points(), local.normals(), depth, frames[k].R, frames[k].o, output);
+    return true;
   }
   return false;
 }
@@ -230,55 +201,23 @@ void GeometricCloudInpainter<PointInT, PointOutT>::processRangeImage(const std::
         run.normal[std::size_t(i)] = detail::rangeGridNormal(run, image, std::size_t(i));
   }
   writeDepthOutput(run, R, o, output);
-  // A driver's "no return" written as (0, 0, 0) stays as written where nothing was filled.
-  const PointCloudIn& input = *input_;
-  for (std::size_t i = 0; i < n; ++i)
-    if (!run.present[i] && input[i].x == 0.0f && input[i].y == 0.0f && input[i].z == 0.0f)
-      pcl::copyPoint(input[i], output[i]);
-  interpolateFilledIntensity(run, output);
+  interpolateFilledIntensity(run, image.model.wraps, output);
 }
 
 template <typename PointInT, typename PointOutT>
-void GeometricCloudInpainter<PointInT, PointOutT>::interpolateFilledIntensity(const detail::DepthRun& run,
+void GeometricCloudInpainter<PointInT, PointOutT>::interpolateFilledIntensity(const detail::DepthRun& run, bool wraps,
                                                                                PointCloudOut& output) const
 {
-  if constexpr (detail::HasIntensity<PointOutT>::value) {
-    // Each filled pixel: the inverse-distance mean of the nearest measured pixel in each of the four
-    // grid directions (the azimuth wrapping).
-    const std::size_t W = run.W, H = run.H;
-    const auto measured = [&](std::size_t i) { return run.image.valid[i] != 0; };
-    for (const std::size_t i : run.filled) {
-      const std::size_t b = i / W, c = i % W;
-      double sum = 0.0, weights = 0.0;
-      const auto take = [&](std::size_t j, std::size_t distance) {
-        sum += static_cast<double>(output[j].intensity) / double(distance);
-        weights += 1.0 / double(distance);
-      };
-      for (std::size_t d = 1; d < W; ++d)
-        if (measured(b * W + (c + d) % W)) {
-          take(b * W + (c + d) % W, d);
-          break;
-        }
-      for (std::size_t d = 1; d < W; ++d)
-        if (measured(b * W + (c + W - d) % W)) {
-          take(b * W + (c + W - d) % W, d);
-          break;
-        }
-      for (std::size_t d = 1; d <= b; ++d)
-        if (measured((b - d) * W + c)) {
-          take((b - d) * W + c, d);
-          break;
-        }
-      for (std::size_t d = 1; b + d < H; ++d)
-        if (measured((b + d) * W + c)) {
-          take((b + d) * W + c, d);
-          break;
-        }
-      if (weights > 0.0)
-        output[i].intensity = static_cast<decltype(output[i].intensity)>(sum / weights);
-    }
+  if constexpr (pcl::traits::has_intensity_v<PointOutT>) {
+    std::vector<double> values(run.n);
+    for (std::size_t i = 0; i < run.n; ++i)
+      values[i] = static_cast<double>(output[i].intensity);
+    interpolateAtFilledPixels(values, run.image.valid, run.W, run.H, wraps, run.filled);
+    for (const std::size_t i : run.filled)
+      output[i].intensity = static_cast<decltype(output[i].intensity)>(values[i]);
   } else {
     (void)run;
+    (void)wraps;
     (void)output;
   }
 }
