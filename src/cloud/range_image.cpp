@@ -198,15 +198,29 @@ bool fitAzimuths(const std::vector<Eigen::Vector3d>& points, SpinningSensorModel
   return true;
 }
 
-// Angle of a point off its pixel's ray, split into azimuth and elevation parts (radians); NaN when
-// the point is not in front of its beam's origin.
-Eigen::Vector2d offRay(const SpinningSensorModel& m, std::size_t b, std::size_t col, const Eigen::Vector3d& p)
+// A point against its pixel's ray (direction u, unit, from `origin`): its range along the ray, and
+// the tangents of the angles it lies off it in azimuth and in elevation (the offset's parts along the
+// azimuth's and the elevation's directions over that range). inverse_cos: 1 / cos of the beam's
+// elevation (u's horizontal length). The one off-ray test of the fit and of the image.
+struct RayOffset {
+  double along, azimuth, elevation;
+};
+
+RayOffset rayOffset(const Eigen::Vector3d& p, const Eigen::Vector3d& origin, const Eigen::Vector3d& u, double inverse_cos)
 {
-  const Eigen::Vector3d q = p - m.rayOrigin(b, col);
-  const double h = std::hypot(p.x(), p.y()) - m.beam_radius;
-  if (!(q.dot(m.direction(b, col)) > 0.0) || !(h > 0.0))
-    return Eigen::Vector2d::Constant(kNaN);
-  return {wrapAngle(std::atan2(p.y(), p.x()) - m.azimuth(b, col)), std::atan2(q.z(), h) - m.elevation[b]};
+  const Eigen::Vector3d q = p - origin;
+  const double along = q.dot(u);
+  const Eigen::Vector3d e_az(-u.y() * inverse_cos, u.x() * inverse_cos, 0.0);
+  const Eigen::Vector3d e_el = e_az.cross(u);  // towards the elevation's increase (or its opposite)
+  return {along, q.dot(e_az) / along, q.dot(e_el) / along};
+}
+
+std::vector<double> inverseCosines(const SpinningSensorModel& m)
+{
+  std::vector<double> inverse_cos(m.height);
+  for (std::size_t b = 0; b < m.height; ++b)
+    inverse_cos[b] = 1.0 / std::cos(m.elevation[b]);
+  return inverse_cos;
 }
 
 // The tolerance of the off-ray test: half an azimuth step, half the gap to the nearest beam.
@@ -289,22 +303,26 @@ SpinningSensorModel fitSpinningSensor(const std::vector<Eigen::Vector3d>& points
     return fail("the columns are not azimuth steps of a turn");
   // Every point against its ray: a beam's spread, the off-ray share, the RMS angle.
   const Eigen::Vector2d tolerance = rayTolerance(m);
+  const double tan_az = std::tan(tolerance.x()), tan_el = std::tan(tolerance.y());
+  const std::shared_ptr<const SpinningRays> rays = spinningRays(m);
+  const std::vector<double> inverse_cos = inverseCosines(m);
   double squares = 0.0;
   std::size_t used = 0;
   std::vector<double> spread(height, 0.0);
   std::vector<std::size_t> count(height, 0);
   for (std::size_t b = 0; b < height; ++b)
     for (std::size_t col = 0; col < width; ++col) {
-      const Eigen::Vector3d& p = points[b * width + col];
-      if (!isReturn(p))
+      const std::size_t i = b * width + col;
+      if (!isReturn(points[i]))
         continue;
-      const Eigen::Vector2d off = offRay(m, b, col, p);
-      if (!off.allFinite() || std::abs(off.x()) > tolerance.x() || std::abs(off.y()) > tolerance.y()) {
+      const RayOffset off = rayOffset(points[i], rays->origin[i], rays->direction[i], inverse_cos[b]);
+      if (!(off.along > 0.0) || std::abs(off.azimuth) > tan_az || std::abs(off.elevation) > tan_el) {
         ++m.off_ray;
         continue;
       }
-      squares += off.squaredNorm();
-      spread[b] += off.y() * off.y();
+      const double azimuth = std::atan(off.azimuth), elevation = std::atan(off.elevation);
+      squares += azimuth * azimuth + elevation * elevation;
+      spread[b] += elevation * elevation;
       ++count[b];
       ++used;
     }
@@ -369,11 +387,7 @@ RangeImage makeRangeImage(const std::vector<Eigen::Vector3d>& points, const Spin
   image.range.assign(n, kNaN);
   image.valid.assign(n, 0);
   image.rays = rays;
-  std::vector<double> inverse_cos(model.height);
-  for (std::size_t b = 0; b < model.height; ++b)
-    inverse_cos[b] = 1.0 / std::cos(model.elevation[b]);
-  // Off the ray: the offset's parts along the azimuth and elevation directions over the range
-  // (tangents of the two angles), against half a step each.
+  const std::vector<double> inverse_cos = inverseCosines(model);
   const Eigen::Vector2d tolerance = rayTolerance(model);
   const double tan_az = std::tan(tolerance.x()), tan_el = std::tan(tolerance.y());
   // A range beyond 1000 × (or below 1/1000 of) the frame's typical one is no measurement (a
@@ -391,14 +405,9 @@ RangeImage makeRangeImage(const std::vector<Eigen::Vector3d>& points, const Spin
     if (!isReturn(p))
       continue;
     ++finite;
-    const Eigen::Vector3d& u = rays->direction[i];
-    const Eigen::Vector3d q = p - rays->origin[i];
-    const double along = q.dot(u);
-    const double inverse_horizontal = inverse_cos[i / model.width];
-    const Eigen::Vector3d e_az(-u.y() * inverse_horizontal, u.x() * inverse_horizontal, 0.0);
-    const Eigen::Vector3d e_el = e_az.cross(u);  // towards the elevation's increase (or its opposite)
-    if (!(along > near) || !(along < far) || std::abs(q.dot(e_az)) > tan_az * along ||
-        std::abs(q.dot(e_el)) > tan_el * along) {
+    const RayOffset offset = rayOffset(p, rays->origin[i], rays->direction[i], inverse_cos[i / model.width]);
+    const double along = offset.along;
+    if (!(along > near) || !(along < far) || std::abs(offset.azimuth) > tan_az || std::abs(offset.elevation) > tan_el) {
       ++off;
       continue;
     }

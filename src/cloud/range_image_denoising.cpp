@@ -42,20 +42,16 @@ std::vector<Eigen::Vector3d> windowCoordinates(const SpinningSensorModel& m, int
 {
   const std::size_t H = m.height, span = std::size_t(2 * B + 1) * std::size_t(2 * R + 1);
   const double step = std::abs(m.azimuth_step);
-  const auto direction = [&](std::size_t b, double column) {
-    const double a = m.azimuth_start + column * m.azimuth_step + m.azimuth_offset[b], e = m.elevation[b];
-    return Eigen::Vector3d(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
-  };
   std::vector<Eigen::Vector3d> table(H * span, Eigen::Vector3d::Zero());
   for (std::size_t b = 0; b < H; ++b) {
-    const Eigen::Vector3d u = direction(b, 0.0);
+    const Eigen::Vector3d u = m.direction(b, 0.0);
     const detail::RayBasis basis(u, step);
     for (int db = -B; db <= B; ++db) {
       if ((db < 0 && b < std::size_t(-db)) || b + db >= H)
         continue;
       for (int dc = -R; dc <= R; ++dc)
         table[b * span + std::size_t((db + B) * (2 * R + 1) + dc + R)] =
-            basis.coordinates(direction(b + db, static_cast<double>(dc)));
+            basis.coordinates(m.direction(b + db, static_cast<double>(dc)));
     }
   }
   return table;

@@ -43,21 +43,23 @@ struct SpinningSensorModel {
   double rms_radians = 0.0;   ///< RMS angle between the points used and their pixels' rays
   std::size_t off_ray = 0;    ///< finite points farther than half a step from their pixel's ray
 
-  double azimuth(std::size_t row, std::size_t column) const
+  /// Column c's azimuth on beam `row`; c may lie outside the grid or between columns (a window's
+  /// offsets about a pixel).
+  double azimuth(std::size_t row, double column) const
   {
-    return azimuth_start + static_cast<double>(column) * azimuth_step + azimuth_offset[row];
+    return azimuth_start + column * azimuth_step + azimuth_offset[row];
   }
-  Eigen::Vector3d direction(std::size_t row, std::size_t column) const
+  Eigen::Vector3d direction(std::size_t row, double column) const
   {
     const double a = azimuth(row, column), e = elevation[row];
     return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
   }
-  Eigen::Vector3d rayOrigin(std::size_t row, std::size_t column) const
+  Eigen::Vector3d rayOrigin(std::size_t row, double column) const
   {
     const double a = azimuth(row, column);
     return {beam_radius * std::cos(a), beam_radius * std::sin(a), beam_height};
   }
-  Eigen::Vector3d pointAt(std::size_t row, std::size_t column, double range) const
+  Eigen::Vector3d pointAt(std::size_t row, double column, double range) const
   {
     return rayOrigin(row, column) + range * direction(row, column);
   }
