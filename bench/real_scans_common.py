@@ -327,8 +327,9 @@ def grid_fill(arr):
 
 # ---------------------------------------------------------------- plane roughness
 
-def largest_plane(P):
-    """RANSAC: 500 tries of 3 points (default_rng(0)), the plane with the most points within 1.5 cm."""
+def largest_plane(P, threshold=PLANE_THRESHOLD, across=None):
+    """RANSAC: 500 tries of 3 points (default_rng(0)), the plane with the most points within `threshold`
+    (1.5 cm). With `across` (a unit normal), only planes within 30 degrees of perpendicular to it."""
     rng = np.random.default_rng(0)
     best = (0, None)
     for _ in range(PLANE_TRIES):
@@ -338,28 +339,38 @@ def largest_plane(P):
         if norm == 0:
             continue
         n /= norm
+        if across is not None and abs(n @ across) > np.cos(np.radians(60.0)):
+            continue
         d = -n @ s[0]
-        count = int((np.abs(P @ n + d) < PLANE_THRESHOLD).sum())
+        count = int((np.abs(P @ n + d) < threshold).sum())
         if count > best[0]:
             best = (count, (n, d))
     return best[1]
 
 
-def roughness_mm(P, plane):
-    """RMS residual (mm) of the 5 cm neighbourhoods (>= 10 points) of 4000 seeded points of the cloud's
-    points within 1.5 cm of the plane, each to its own least-squares plane. -> (mm, region points)."""
-    n, d = plane
-    region = P[np.abs(P @ n + d) < PLANE_THRESHOLD]
+def local_rms_mm(region, radius=ROUGHNESS_RADIUS, points=ROUGHNESS_POINTS):
+    """RMS residual (mm) of the `radius` neighbourhoods (>= 10 points) of `points` seeded points
+    (default_rng(1)) of the region, each to its own least-squares plane."""
+    if len(region) < 10:
+        return float("nan")
     tree = cKDTree(region)
-    q = region[np.random.default_rng(1).choice(len(region), min(ROUGHNESS_POINTS, len(region)), replace=False)]
+    q = region[np.random.default_rng(1).choice(len(region), min(points, len(region)), replace=False)]
     squares, count = 0.0, 0
-    for nb in tree.query_ball_point(q, ROUGHNESS_RADIUS, workers=2):
+    for nb in tree.query_ball_point(q, radius, workers=2):
         if len(nb) < 10:
             continue
         X = region[nb] - region[nb].mean(0)
         squares += np.linalg.eigh(X.T @ X)[0][0]
         count += len(nb)
-    return 1000 * float(np.sqrt(squares / max(count, 1))), len(region)
+    return 1000 * float(np.sqrt(squares / max(count, 1)))
+
+
+def roughness_mm(P, plane):
+    """local_rms_mm of the cloud's points within 1.5 cm of the plane (5 cm neighbourhoods of 4000
+    seeded points). -> (mm, region points)."""
+    n, d = plane
+    region = P[np.abs(P @ n + d) < PLANE_THRESHOLD]
+    return local_rms_mm(region), len(region)
 
 
 # ---------------------------------------------------------------- running

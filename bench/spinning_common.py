@@ -14,11 +14,11 @@ from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import spsolve
 from scipy.spatial import cKDTree
 
-from real_scans_common import xyz, finite_rows, spacing_at, split_added, score, punch_discs  # noqa: E402
+from real_scans_common import (xyz, finite_rows, spacing_at, split_added, score, punch_discs,  # noqa: E402
+                               largest_plane, local_rms_mm as common_local_rms_mm)
 
 HOLES, SPREAD, MAX_FILL_PX = 8, 0.03, 2000
-PLANE_THRESHOLD, PLANE_TRIES, ROUGHNESS_RADIUS, ROUGHNESS_POINTS, WALL_ABOVE = 0.1, 500, 0.5, 4000, 0.5
-MAX_WALL_COS = np.sin(np.radians(30))  # a wall's normal: within 30 degrees of perpendicular to the ground's
+PLANE_THRESHOLD, ROUGHNESS_RADIUS, ROUGHNESS_POINTS, WALL_ABOVE = 0.1, 0.5, 4000, 0.5
 
 
 def radius_px(height):
@@ -206,26 +206,11 @@ def whole_frame_check(P_in, width, height, P_out):
 
 # ---------------------------------------------------------------- plane roughness
 
-def ransac_plane(P, threshold=PLANE_THRESHOLD, tries=PLANE_TRIES, across=None):
-    """RANSAC: `tries` draws of 3 points (default_rng(0)), the plane with the most points within
-    `threshold`; the normal oriented so that the sensor (the origin) lies on its positive side. With
-    `across` (a unit normal), only planes within 30 degrees of perpendicular to it are candidates."""
-    rng = np.random.default_rng(0)
-    best = (0, None)
-    for _ in range(tries):
-        s = P[rng.choice(len(P), 3, replace=False)]
-        n = np.cross(s[1] - s[0], s[2] - s[0])
-        norm = np.linalg.norm(n)
-        if norm == 0:
-            continue
-        n /= norm
-        if across is not None and abs(n @ across) > MAX_WALL_COS:
-            continue
-        d = -n @ s[0]
-        count = int((np.abs(P @ n + d) < threshold).sum())
-        if count > best[0]:
-            best = (count, (n, d) if d >= 0 else (-n, -d))
-    return best[1]
+def ransac_plane(P, across=None):
+    """real_scans_common.largest_plane at the LiDAR's threshold (0.1 m), the normal oriented so that the
+    sensor (the origin) lies on its positive side."""
+    n, d = largest_plane(P, PLANE_THRESHOLD, across)
+    return (n, d) if d >= 0 else (-n, -d)
 
 
 def ground_and_wall(P):
@@ -246,22 +231,9 @@ def plane_points(P, plane, ground=None):
     return P[keep]
 
 
-def local_rms_mm(region, radius=ROUGHNESS_RADIUS, points=ROUGHNESS_POINTS):
-    """RMS residual (mm) of the `radius` neighbourhoods (>= 10 points) of `points` seeded points
-    (default_rng(1)) of the region, each to its own least-squares plane (real_scans_common.roughness_mm
-    with a LiDAR-sized neighbourhood)."""
-    if len(region) < 10:
-        return float("nan")
-    tree = cKDTree(region)
-    q = region[np.random.default_rng(1).choice(len(region), min(points, len(region)), replace=False)]
-    squares, count = 0.0, 0
-    for nb in tree.query_ball_point(q, radius, workers=2):
-        if len(nb) < 10:
-            continue
-        X = region[nb] - region[nb].mean(0)
-        squares += np.linalg.eigh(X.T @ X)[0][0]
-        count += len(nb)
-    return 1000 * float(np.sqrt(squares / max(count, 1)))
+def local_rms_mm(region):
+    """real_scans_common.local_rms_mm with a LiDAR-sized neighbourhood (0.5 m)."""
+    return common_local_rms_mm(region, ROUGHNESS_RADIUS, ROUGHNESS_POINTS)
 
 
 def tilt_degrees(plane):
