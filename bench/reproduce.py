@@ -164,29 +164,28 @@ def scale(a, out, log):
             "1 thread, solid 2.", ["scale_time.png", "scale_memory.png"])
 
 
-def real(a, out, log):
-    title = "Real sensor scans — Kinect frames and an airborne LiDAR tile"
+def real_scan_step(a, out, log, name, title, script, *arguments):
+    """A step over ../shared/data/real (skipped when absent): `script` writes OUT/name/name.md, whose
+    body (without its title) is the step's section."""
     if not (a.shared / "real").is_dir():
-        print("reproduce.py: real skipped: %s not found" % (a.shared / "real"), flush=True)
+        print("reproduce.py: %s skipped: %s not found" % (name, a.shared / "real"), flush=True)
         return title, "*Skipped: %s not found.*" % (a.shared / "real"), []
     # numpy and scipy come from Debian (install-deps.sh --bench): its interpreter, not another on PATH.
     python = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
-    run([python, HERE / "real_scans.py", "--tool", a.tool, "--shared", a.shared, "--out",
-         out / "real_scans", *(["--quick"] if a.quick else [])], log)
-    body = open(out / "real_scans" / "real_scans.md").read().strip().split("\n", 1)[1]  # without its title
+    run([python, HERE / script, "--tool", a.tool, *arguments, "--out", out / name,
+         *(["--quick"] if a.quick else [])], log)
+    body = open(out / name / (name + ".md")).read().strip().split("\n", 1)[1]
     return title, body.strip(), []
+
+
+def real(a, out, log):
+    return real_scan_step(a, out, log, "real_scans", "Real sensor scans — Kinect frames and an airborne LiDAR tile",
+                          "real_scans.py", "--shared", a.shared)
 
 
 def spinning(a, out, log):
-    title = "Spinning LiDAR frames — Ouster OS1-32, OS2-32, OS1-128"
-    if not (a.shared / "real").is_dir():
-        print("reproduce.py: spinning skipped: %s not found" % (a.shared / "real"), flush=True)
-        return title, "*Skipped: %s not found.*" % (a.shared / "real"), []
-    python = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
-    run([python, HERE / "spinning_scans.py", "--tool", a.tool, "--frames-dir", a.shared / "real", "--out",
-         out / "spinning_scans", *(["--quick"] if a.quick else [])], log)
-    body = open(out / "spinning_scans" / "spinning_scans.md").read().strip().split("\n", 1)[1]
-    return title, body.strip(), []
+    return real_scan_step(a, out, log, "spinning_scans", "Spinning LiDAR frames — Ouster OS1-32, OS2-32, OS1-128",
+                          "spinning_scans.py", "--frames-dir", a.shared / "real")
 
 
 def main():
