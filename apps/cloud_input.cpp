@@ -83,6 +83,28 @@ void writeScalar(pcl::PCLPointCloud2& blob, std::size_t point, const pcl::PCLPoi
   }
 }
 
+const pcl::PCLPointField* findIntegerField(const pcl::PCLPointCloud2& blob, const char* name)
+{
+  for (const auto& field : blob.fields)
+    if (field.name == name && field.count == 1 && field.datatype >= pcl::PCLPointField::INT8 &&
+        field.datatype <= pcl::PCLPointField::UINT32)
+      return &field;
+  return nullptr;
+}
+
+long long readInteger(const pcl::PCLPointCloud2& blob, std::size_t point, const pcl::PCLPointField& field)
+{
+  const std::uint8_t* at = blob.data.data() + point * blob.point_step + field.offset;
+  switch (field.datatype) {
+  case pcl::PCLPointField::INT8: { std::int8_t v; std::memcpy(&v, at, 1); return v; }
+  case pcl::PCLPointField::UINT8: { std::uint8_t v; std::memcpy(&v, at, 1); return v; }
+  case pcl::PCLPointField::INT16: { std::int16_t v; std::memcpy(&v, at, 2); return v; }
+  case pcl::PCLPointField::UINT16: { std::uint16_t v; std::memcpy(&v, at, 2); return v; }
+  case pcl::PCLPointField::INT32: { std::int32_t v; std::memcpy(&v, at, 4); return v; }
+  default: { std::uint32_t v; std::memcpy(&v, at, 4); return v; }
+  }
+}
+
 namespace {
 
 /** A PCD: every field kept in the blob; x/y/z (float32 or float64) and normals read by hand. */

@@ -21,6 +21,10 @@ bool isCloudFile(const std::string& path);
 
 /** A field of one float32 or float64 value, or nullptr. */
 const pcl::PCLPointField* findScalarField(const pcl::PCLPointCloud2& blob, const char* name);
+/** An integer field of one value (INT8 … UINT32; Velodyne and Ouster write `ring` as uint16), or
+  * nullptr; and its value in point i. */
+const pcl::PCLPointField* findIntegerField(const pcl::PCLPointCloud2& blob, const char* name);
+long long readInteger(const pcl::PCLPointCloud2& blob, std::size_t point, const pcl::PCLPointField& field);
 /** That field's value in point i, as double; and back (float32 fields round). */
 double readScalar(const pcl::PCLPointCloud2& blob, std::size_t point, const pcl::PCLPointField& field);
 void writeScalar(pcl::PCLPointCloud2& blob, std::size_t point, const pcl::PCLPointField& field, double value);
