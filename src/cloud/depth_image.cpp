@@ -343,11 +343,22 @@ bool FreeSpaceTest::violates(const Eigen::Vector3d& p) const
   const double column = std::round(pixel.x()), row = std::round(pixel.y());
   if (!(column >= 0.0 && row >= 0.0 && column < static_cast<double>(width_) && row < static_cast<double>(height_)))
     return false;
-  const double seen = nearest_[static_cast<std::size_t>(row) * width_ + static_cast<std::size_t>(column)];
+  return nearerThanSeen(p.z(), nearest_[static_cast<std::size_t>(row) * width_ + static_cast<std::size_t>(column)]);
+}
+
+bool FreeSpaceTest::violatesAt(std::size_t i, double z) const
+{
+  if (!camera_.valid || !(z > 0.0) || !std::isfinite(z) || i >= nearest_.size())
+    return false;
+  return nearerThanSeen(z, nearest_[i]);
+}
+
+bool FreeSpaceTest::nearerThanSeen(double z, double seen) const
+{
   if (!std::isfinite(seen))
     return false;
   const double tolerance = std::max(spacing_factor_ * camera_.pixelSpacing(seen), relative_depth_ * seen);
-  return p.z() < seen - tolerance;
+  return z < seen - tolerance;
 }
 
 ViewpointFreeSpaceTest::ViewpointFreeSpaceTest(const std::vector<Eigen::Vector3d>& points,

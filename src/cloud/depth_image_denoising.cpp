@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <string>
 
 #pragma GCC optimize("fp-contract=off")
 
@@ -47,6 +48,9 @@ template <> struct LanesOf<F16> {
 };
 
 #define PD_INLINE inline __attribute__((always_inline))
+
+/// The most window samples either side of a pixel (max_radius / window_stride, and seed_radius).
+constexpr int kMaxWindowReach = 32;
 
 }  // namespace
 
@@ -202,6 +206,14 @@ PD_INLINE void laneSums(const LaneFilter& f, const Block<V>& b, bool full, bool 
   const int table_reach = full ? f.reach : f.seed_reach, table_side = 2 * table_reach + 1;
   for (int k = 0; k < 10; ++k)
     sums[k] = zero;
+  // Per window column: the plane's slope term rb·du, du and du² (the same products in every row of the
+  // window, computed once).
+  constexpr int max_side = 2 * kMaxWindowReach + 1;
+  V slope[max_side], column[max_side], column2[max_side];
+  for (int ju = -J; ju <= J; ++ju) {
+    const float du = static_cast<float>(ju * s);
+    slope[ju + J] = rb * du, column[ju + J] = zero + du, column2[ju + J] = zero + du * du;
+  }
   for (int jv = -J; jv <= J; ++jv) {
     const int dv = jv * s;
     if (b.v + dv < 0 || b.v + dv >= f.grid.height)
@@ -209,13 +221,13 @@ PD_INLINE void laneSums(const LaneFilter& f, const Block<V>& b, bool full, bool 
     const float* source = f.grid.row(b.v + dv) + b.u0;
     const float fv = static_cast<float>(dv);
     const V base = b.wp - (ra + rc * fv);
-    V rS = zero, rSu = zero, rSuu = zero, rSd = zero, rSud = zero;
-    for (int ju = -J; ju <= J; ++ju) {
-      const float du = static_cast<float>(ju * s);
+    V rS = zero, rSu = zero, rSuu = zero, rSd = zero, rSud = zero, rN = zero;
+    const float* entry = f.table.data() +
+                         (static_cast<std::size_t>(jv + table_reach) * table_side + (table_reach - J)) * f.table_size;
+    for (int ju = -J; ju <= J; ++ju, entry += f.table_size) {
       const std::size_t offset = static_cast<std::size_t>(jv + table_reach) * table_side + (ju + table_reach);
       V weight, inv = b.scale, q;
       if (full) {
-        const float* entry = f.table.data() + offset * f.table_size;
         if (f.table_size == 16) {
           F16 all;
           load(all, entry);
@@ -234,19 +246,20 @@ PD_INLINE void laneSums(const LaneFilter& f, const Block<V>& b, bool full, bool 
           inv = b.g / (b.t + b.allowance * f.seed_distance[offset]);
       }
       load(q, source + ju * s);
-      const V r = (base - rb * du - q) * inv;
+      const V r = (base - slope[ju + J] - q) * inv;
       const V r2 = r * r;
       const Int inside = r2 < one;  // false for NaN: no measurement
       const V tukey = one - r2;
       const V w = (V)((Int)(weight * (tukey * tukey)) & inside);
       const V wd = w * (V)((Int)(b.wp - q) & inside);
       rS += w;
-      rSu += w * du;
-      rSuu += w * (du * du);
+      rSu += w * column[ju + J];
+      rSuu += w * column2[ju + J];
       rSd += wd;
-      rSud += wd * du;
-      sums[9] += (V)((Int)one & (w > zero));
+      rSud += wd * column[ju + J];
+      rN += (V)((Int)one & (w > zero));
     }
+    sums[9] += rN;
     sums[0] += rS, sums[1] += rSu, sums[2] += fv * rS, sums[3] += rSuu, sums[4] += fv * rSu;
     sums[5] += (fv * fv) * rS, sums[6] += rSd, sums[7] += rSud, sums[8] += fv * rSd;
   }
@@ -348,20 +361,26 @@ template <class V> PD_INLINE void fitBlock(const LaneFilter& f, const Block<V>& 
     fitLanes(f, b, true, false, plane, plane);
 }
 
-/// Row v of the image, denoised into depth_out, `lanes` pixels at a time. Quantised depths repeat
-/// along a row, so σ(z) and the radius are computed once per run of equal depths.
-template <class V> PD_INLINE void denoiseRowBody(const LaneFilter& f, int v, double* depth_out, RowTally& tally)
+/// σ(z) and the window radius of the depths a thread met last, by their bits: a quantised sensor
+/// (a Kinect's 11-bit disparity) has a few thousand distinct depths, so most lookups hit.
+struct KnownDepths {
+  struct Entry {
+    double z = std::numeric_limits<double>::quiet_NaN(), sigma = 0.0;
+    int R = 0;
+  };
+  static constexpr std::uint64_t size = 4096;
+  std::vector<Entry> entries = std::vector<Entry>(size);
+};
+
+/// Row v of the image, denoised into depth_out, `lanes` pixels at a time.
+template <class V>
+PD_INLINE void denoiseRowBody(const LaneFilter& f, int v, double* depth_out, RowTally& tally, KnownDepths& known)
 {
   constexpr int P = LanesOf<V>::size;
   const DepthImage& image = f.image;
   const int W = static_cast<int>(image.width);
   const DepthDenoisingParameters& parameters = f.parameters;
   double z[P], sigmas[P];
-  // σ(z) and the radius of the depths seen last (a Kinect row holds few distinct depths), by their bits.
-  struct Known {
-    double z = std::numeric_limits<double>::quiet_NaN(), sigma = 0.0;
-    int R = 0;
-  } known[64];
   for (int u0 = 0; u0 < W; u0 += P) {
     Block<V> b;
     b.u0 = u0, b.v = v;
@@ -376,7 +395,7 @@ template <class V> PD_INLINE void denoiseRowBody(const LaneFilter& f, int v, dou
       z[l] = image.depth[static_cast<std::size_t>(v) * W + u0 + l];
       std::uint64_t bits;
       std::memcpy(&bits, &z[l], sizeof bits);
-      Known& entry = known[(bits ^ (bits >> 29) ^ (bits >> 41)) & 63];
+      KnownDepths::Entry& entry = known.entries[(bits ^ (bits >> 29) ^ (bits >> 41)) & (KnownDepths::size - 1)];
       if (!(entry.z == z[l])) {
         entry.z = z[l];
         entry.sigma = f.noise.sigma(z[l]);
@@ -407,18 +426,23 @@ template <class V> PD_INLINE void denoiseRowBody(const LaneFilter& f, int v, dou
 
 // The row loop built for each instruction set; the same bits from each (see the top of the file).
 #if defined(__x86_64__) && defined(__GNUC__)
-__attribute__((target("avx512f"))) void denoiseRowAvx512(const LaneFilter& f, int v, double* out, RowTally& tally)
+__attribute__((target("avx512f"))) void denoiseRowAvx512(const LaneFilter& f, int v, double* out, RowTally& tally,
+                                                         KnownDepths& known)
 {
-  denoiseRowBody<F16>(f, v, out, tally);
+  denoiseRowBody<F16>(f, v, out, tally, known);
 }
-__attribute__((target("avx2"))) void denoiseRowAvx2(const LaneFilter& f, int v, double* out, RowTally& tally)
+__attribute__((target("avx2"))) void denoiseRowAvx2(const LaneFilter& f, int v, double* out, RowTally& tally,
+                                                     KnownDepths& known)
 {
-  denoiseRowBody<F8>(f, v, out, tally);
+  denoiseRowBody<F8>(f, v, out, tally, known);
 }
 #endif
-void denoiseRowPortable(const LaneFilter& f, int v, double* out, RowTally& tally) { denoiseRowBody<F8>(f, v, out, tally); }
+void denoiseRowPortable(const LaneFilter& f, int v, double* out, RowTally& tally, KnownDepths& known)
+{
+  denoiseRowBody<F8>(f, v, out, tally, known);
+}
 
-using RowFunction = void (*)(const LaneFilter&, int, double*, RowTally&);
+using RowFunction = void (*)(const LaneFilter&, int, double*, RowTally&, KnownDepths&);
 
 RowFunction rowFunction()
 {
@@ -452,6 +476,10 @@ void denoiseDepthImage(const DepthImage& image, const DepthNoiseModel& noise, co
   if (image.width > static_cast<std::size_t>(std::numeric_limits<int>::max() / 4) ||
       image.height > static_cast<std::size_t>(std::numeric_limits<int>::max() / 4))
     throw Error("denoiseDepthImage: the depth image is too large");
+  if (std::max(1, parameters.max_radius) / std::max(1, parameters.window_stride) > kMaxWindowReach ||
+      parameters.seed_radius > kMaxWindowReach)
+    throw Error("denoiseDepthImage: the window reaches more than " + std::to_string(kMaxWindowReach) +
+                " samples from its pixel (max_radius / window_stride and seed_radius are limited to it)");
 
   const int threads = parameters.num_threads > 0 ? parameters.num_threads : omp_get_max_threads();
   std::vector<float> inverse(n);
@@ -469,10 +497,12 @@ void denoiseDepthImage(const DepthImage& image, const DepthNoiseModel& noise, co
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return;
   }
+  // The report's depth range from an even sample of up to 65,536 measured pixels.
   std::vector<double> depths;
-  depths.reserve(measured);
-  for (std::size_t i = 0; i < n; ++i)
-    if (inverse[i] == inverse[i])
+  const std::size_t every = std::max<std::size_t>(1, measured / 65536);
+  depths.reserve(measured / every + 1);
+  for (std::size_t i = 0, seen = 0; i < n; ++i)
+    if (inverse[i] == inverse[i] && seen++ % every == 0)
       depths.push_back(image.depth[i]);
   depthRange(image, parameters, std::move(depths), report);
 
@@ -484,9 +514,13 @@ void denoiseDepthImage(const DepthImage& image, const DepthNoiseModel& noise, co
   // squared shifts would add them in the order the threads finish, and the report's last bits would
   // depend on the thread count.
   std::vector<RowTally> rows(static_cast<std::size_t>(H));
-#pragma omp parallel for schedule(dynamic, 4) num_threads(threads)
-  for (int v = 0; v < H; ++v)
-    row_function(filter, v, depth_out.data(), rows[static_cast<std::size_t>(v)]);
+#pragma omp parallel num_threads(threads)
+  {
+    KnownDepths known;  // each thread's own
+#pragma omp for schedule(dynamic, 4)
+    for (int v = 0; v < H; ++v)
+      row_function(filter, v, depth_out.data(), rows[static_cast<std::size_t>(v)], known);
+  }
   double shift2 = 0.0;
   int radius_min = std::numeric_limits<int>::max(), radius_max = 0;
   for (const RowTally& row : rows) {

@@ -123,12 +123,18 @@ TEST(DepthImage, FreeSpaceSeesTheNearestMeasuredDepthOfEachNeighbourhood)
             if (image.valid[rr * W + cc] && std::isfinite(image.depth[rr * W + cc]))
               seen = std::min(seen, image.depth[rr * W + cc]);
         const auto at = [&](double z) { return image.camera.pointAt(double(c), double(r), z); };
+        const std::size_t i = r * W + c;
         if (!std::isfinite(seen)) {
           EXPECT_FALSE(test.violates(at(0.5))) << W << "x" << H << " " << c << "," << r;
+          EXPECT_FALSE(test.violatesAt(i, 0.5)) << W << "x" << H << " " << c << "," << r;
           continue;
         }
         EXPECT_TRUE(test.violates(at(seen * 0.998))) << W << "x" << H << " " << c << "," << r;
         EXPECT_FALSE(test.violates(at(seen * 0.9995))) << W << "x" << H << " " << c << "," << r;
+        // On the pixel's own ray, without projecting: the same answers.
+        EXPECT_TRUE(test.violatesAt(i, seen * 0.998)) << W << "x" << H << " " << c << "," << r;
+        EXPECT_FALSE(test.violatesAt(i, seen * 0.9995)) << W << "x" << H << " " << c << "," << r;
+        EXPECT_FALSE(test.violatesAt(i, -seen)) << W << "x" << H << " " << c << "," << r;
       }
   }
 }

@@ -228,6 +228,13 @@ TEST(DepthImageDenoising, RefusesAnImageWithoutCameraOrNoise)
   DepthDenoisingReport report;
   EXPECT_THROW(pcl::patchdict::denoiseDepthImage(frame.image, DepthNoiseModel(), DepthDenoisingParameters(), out, report),
                pcl::patchdict::Error);
+  // A window reaching more than 32 samples from its pixel (the kernel's per-column tables).
+  DepthDenoisingParameters wide;
+  wide.max_radius = 66;
+  wide.window_stride = 2;
+  EXPECT_THROW(pcl::patchdict::denoiseDepthImage(frame.image, kinectNoise(), wide, out, report), pcl::patchdict::Error);
+  wide.max_radius = 64;  // 32 samples each side: allowed
+  EXPECT_NO_THROW(pcl::patchdict::denoiseDepthImage(frame.image, kinectNoise(), wide, out, report));
   frame.image.camera.valid = false;
   EXPECT_THROW(pcl::patchdict::denoiseDepthImage(frame.image, kinectNoise(), DepthDenoisingParameters(), out, report),
                pcl::patchdict::Error);

@@ -79,8 +79,12 @@ public:
   /** True when p lies in space the sensor saw through. Points behind the camera or outside the
     * image are not judged (false). */
   bool violates(const Eigen::Vector3d& p) const;
+  /** The same test for a point on pixel i's own ray (row-major index) at depth z, without projecting
+    * it: what violates(camera.pointAt(i % width, i / width, z)) answers. */
+  bool violatesAt(std::size_t i, double z) const;
 
 private:
+  bool nearerThanSeen(double z, double seen) const;
   PinholeCamera camera_;                 // a copy: the test keeps no pointer to the image
   std::size_t width_ = 0, height_ = 0;
   std::vector<double> nearest_;  // the 3 × 3 minimum of the measured depths (inf where none)

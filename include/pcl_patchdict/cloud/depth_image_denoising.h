@@ -18,7 +18,8 @@ struct DepthDenoisingParameters {
   double window_radius = 0.02;
   double reference_depth = 1.0;
   double window_exponent = 0.5;
-  int min_radius = 2;            ///< pixel radius bounds of the window (square, (2R+1)² pixels)
+  /// Pixel radius bounds of the window (square, (2R+1)² pixels); max_radius / window_stride ≤ 32.
+  int min_radius = 2;
   int max_radius = 12;
   double spatial_sigma = 0.6;    ///< Gaussian spatial weight, σ = spatial_sigma × R pixels
   /// Range weight: Tukey's biweight of a neighbour's depth off the reference plane, zero beyond
@@ -29,7 +30,7 @@ struct DepthDenoisingParameters {
   /// seeded from the pixel's own depth, a neighbour d pixels away may differ by up to
   /// range_sigmas·σ(z) + slope_allowance·d·(pixel spacing) — slope_allowance = tan of the steepest
   /// view angle (default ~72°).
-  int seed_radius = 2;
+  int seed_radius = 2;  ///< ≤ 32
   double slope_allowance = 3.0;
   /// The full window is sampled every window_stride pixels in both directions (from the centre):
   /// neighbouring Kinect pixels' noise is strongly correlated, so every other one carries most of
@@ -44,7 +45,7 @@ struct DepthDenoisingParameters {
 
 struct DepthDenoisingReport {
   int radius_near = 0, radius_far = 0;       ///< window pixel radius at depth_near and depth_far
-  double depth_near = 0.0, depth_far = 0.0;  ///< 5th and 95th percentiles of the measured depths
+  double depth_near = 0.0, depth_far = 0.0;  ///< 5th and 95th percentiles of the measured depths (of an even sample of ≤ 65,536)
   int radius_min = 0, radius_max = 0;        ///< smallest and largest radius used over the image
   std::size_t measured = 0;                  ///< valid input pixels
   std::size_t moved = 0;                     ///< pixels whose depth changed

@@ -26,7 +26,7 @@ namespace detail {
 struct DepthRun {
   /// with_normals: the output type keeps normals (else `normal` stays empty: 7 MB a VGA frame saved).
   DepthRun(const std::vector<Eigen::Vector3d>& points, const DepthImage& image_, bool with_normals)
-      : image(image_), W(image_.width), H(image_.height), n(W * H), measured(n), position(n),
+      : image(image_), W(image_.width), H(image_.height), n(W * H), points_(points), position(n),
         normal(with_normals ? n : 0), present(image_.valid)
   {
     // Off-ray points are no measurements: from here on, a pixel is its depth image's. Per pixel in
@@ -36,7 +36,7 @@ struct DepthRun {
 #pragma omp parallel for schedule(static)
     for (long long k = 0; k < pixels; ++k) {
       const std::size_t i = static_cast<std::size_t>(k);
-      measured[i] = position[i] = image.valid[i] ? points[i] : none;
+      position[i] = image.valid[i] ? points[i] : none;
       if (with_normals)
         normal[i].setZero();
     }
@@ -46,6 +46,16 @@ struct DepthRun {
         queries.push_back(i);
   }
 
+  /// A measured pixel's point (image.valid[i]), as read: the caller's points, not a copy.
+  const Eigen::Vector3d& measured(std::size_t i) const { return points_[i]; }
+  /// The measured points with NaN at every other pixel (for the cloud denoiser, which reads them all).
+  std::vector<Eigen::Vector3d> measuredCloud() const
+  {
+    std::vector<Eigen::Vector3d> out(n, Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
+    for (const std::size_t i : queries)
+      out[i] = points_[i];
+    return out;
+  }
   Eigen::Vector3d ray(std::size_t i) const { return image.camera.pointAt(double(i % W), double(i / W), 1.0); }
   // Normals from the grid: central differences of the present neighbours, facing the camera.
   Eigen::Vector3d gridNormal(std::size_t i) const
@@ -61,7 +71,7 @@ struct DepthRun {
 
   const DepthImage& image;
   const std::size_t W, H, n;
-  std::vector<Eigen::Vector3d> measured;  // the measured pixels' points, NaN elsewhere
+  const std::vector<Eigen::Vector3d>& points_;  // the input's points in the sensor frame (not owned)
   std::vector<std::size_t> queries;       // the measured pixels
   std::vector<Eigen::Vector3d> position, normal;
   std::vector<char> present;
@@ -132,8 +142,8 @@ void GeometricCloudInpainter<PointInT, PointOutT>::denoiseDepthInImage(detail::D
     run.position[i] = camera.pointAt(double(i % W), double(i / W), depth[i]);
     // A point moved away along its own ray is behind its own measurement, which its neighbourhood's
     // nearest depth never exceeds: only moves towards the camera need the test.
-    if (!run.position[i].allFinite() || (depth[i] < image.depth[i] && free_space.violates(run.position[i]))) {
-      run.position[i] = run.measured[i];
+    if (!run.position[i].allFinite() || (depth[i] < image.depth[i] && free_space.violatesAt(i, depth[i]))) {
+      run.position[i] = run.measured(i);
       ++reverted;
     }
   }
@@ -170,7 +180,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::denoiseDepthWithPatches(detai
     PointInT& p = (*searched)[i];
     p.x = p.y = p.z = std::numeric_limits<float>::quiet_NaN();
     if (image.valid[i])
-      p.getVector3fMap() = run.measured[i].cast<float>();
+      p.getVector3fMap() = run.measured(i).cast<float>();
   }
   searched->is_dense = false;
   KdTreePtr tree = tree_;
@@ -194,7 +204,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::denoiseDepthWithPatches(detai
   std::vector<char> kept;
   std::vector<Eigen::Vector3d> moved, moved_normals;
   const Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // the fitted camera's centre
-  detail::denoiseCloud(run.measured, normals, run.queries, knn, radius, parameters_, true, &origin, kept, moved,
+  detail::denoiseCloud(run.measuredCloud(), normals, run.queries, knn, radius, parameters_, true, &origin, kept, moved,
                        moved_normals, report_, law ? &scales : nullptr);
   report_.input_points = n;  // the grid's, not only its measured pixels
   report_.nonfinite_points = n - run.queries.size();
@@ -215,7 +225,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::denoiseDepthWithPatches(detai
     if constexpr (pcl::traits::has_normal_v<PointOutT>)
       run.normal[i] = nq;
     if (!(t > 0.0) || free_space.violates(run.position[i])) {
-      run.position[i] = run.measured[i];
+      run.position[i] = run.measured(i);
       ++report_.free_space_reverted;
     }
   }
@@ -302,8 +312,24 @@ void GeometricCloudInpainter<PointInT, PointOutT>::writeDepthOutput(const detail
     else
       place(out, R * run.position[i] + o, Eigen::Vector3d::Zero());
   }
+  // The displacements summed per fixed block of pixels, in parallel, and the blocks added in order:
+  // the same sum whatever the thread count.
+  constexpr std::size_t block = 4096;
+  const long long blocks = static_cast<long long>((n + block - 1) / block);
+  std::vector<double> block_sum(static_cast<std::size_t>(blocks), 0.0);
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (long long b = 0; b < blocks; ++b) {
+    double sum = 0.0;
+    for (std::size_t i = std::size_t(b) * block; i < std::min(n, std::size_t(b + 1) * block); ++i)
+      if (run.present[i] && !is_filled[i] && !(mode_ == Mode::Complete && run.image.valid[i]))
+        sum += (run.position[i] - run.measured(i)).norm();
+    block_sum[std::size_t(b)] = sum;
+  }
   double displacement = 0.0;
+  for (const double sum : block_sum)
+    displacement += sum;
   std::size_t moved_count = 0;
+  kept_indices_.reserve(run.queries.size());
   for (std::size_t i = 0; i < n; ++i) {
     if (!run.present[i])
       continue;
@@ -312,10 +338,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::writeDepthOutput(const detail
       continue;
     }
     kept_indices_.push_back(static_cast<pcl::index_t>(i));
-    if (mode_ == Mode::Complete && run.image.valid[i])
-      continue;
-    displacement += (run.position[i] - run.measured[i]).norm();
-    ++moved_count;
+    moved_count += mode_ == Mode::Complete && run.image.valid[i] ? 0 : 1;
   }
   report_.output_points = kept_indices_.size();
   report_.mean_displacement = moved_count ? displacement / static_cast<double>(moved_count) : 0.0;

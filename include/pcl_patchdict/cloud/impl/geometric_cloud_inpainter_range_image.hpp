@@ -171,7 +171,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::processRangeImage(const std::
       current.range[i] = ranges[i];
       if (ranges[i] != image.range[i]) {
         const Eigen::Vector3d& origin = image.rayOrigin(i);
-        run.position[i] = origin + (run.measured[i] - origin) * (ranges[i] / image.range[i]);
+        run.position[i] = origin + (run.measured(i) - origin) * (ranges[i] / image.range[i]);
       }
     }
     report_.bandwidth = denoising.column_radius * report_.mean_spacing;
