@@ -250,14 +250,15 @@ PD_INLINE void laneSums(const LaneFilter& f, const Block<V>& b, bool full, bool 
       const V r2 = r * r;
       const Int inside = r2 < one;  // false for NaN: no measurement
       const V tukey = one - r2;
-      const V w = (V)((Int)(weight * (tukey * tukey)) & inside);
-      const V wd = w * (V)((Int)(b.wp - q) & inside);
+      // Selects rather than masks, so that each is one masked instruction.
+      const V w = inside ? weight * (tukey * tukey) : zero;
+      const V wd = w * (inside ? b.wp - q : zero);
       rS += w;
       rSu += w * column[ju + J];
       rSuu += w * column2[ju + J];
       rSd += wd;
       rSud += wd * column[ju + J];
-      rN += (V)((Int)one & (w > zero));
+      rN = w > zero ? rN + one : rN;
     }
     sums[9] += rN;
     sums[0] += rS, sums[1] += rSu, sums[2] += fv * rS, sums[3] += rSuu, sums[4] += fv * rSu;
