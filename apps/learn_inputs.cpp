@@ -1,5 +1,6 @@
 #include "learn_inputs.h"
 
+#include <pcl_patchdict/core/checksum.h>
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>

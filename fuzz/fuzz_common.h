@@ -3,6 +3,7 @@
 // accepted result that breaks these checks) is a finding.
 #pragma once
 
+#include <pcl_patchdict/core/checksum.h>
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>

@@ -6,6 +6,7 @@
 #include "codec/mask_coding.h"
 #include "codec/sparse_code_coding.h"
 
+#include <pcl_patchdict/core/checksum.h>
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
 

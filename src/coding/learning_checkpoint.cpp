@@ -3,6 +3,7 @@
 #include "core/binary_format.h"
 #include "core/byte_stream.h"
 
+#include <pcl_patchdict/core/checksum.h>
 #include <pcl_patchdict/io/atomic_file.h>
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/coding/learning_checkpoint.h>

@@ -1,5 +1,6 @@
 #include "core/binary_format.h"
 
+#include <pcl_patchdict/core/checksum.h>
 #include <pcl_patchdict/io/atomic_file.h>
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
@@ -59,16 +60,6 @@ double observedRMSE(const Eigen::MatrixXd& estimate, const Eigen::MatrixXd& heig
       ++count;
     }
   return count ? std::sqrt(squared / static_cast<double>(count)) : 0.0;
-}
-
-std::uint64_t fnv1a64(const void* data, std::size_t size, std::uint64_t hash)
-{
-  const auto* bytes = static_cast<const std::uint8_t*>(data);
-  for (std::size_t i = 0; i < size; ++i) {
-    hash ^= bytes[i];
-    hash *= 0x100000001b3ULL;
-  }
-  return hash;
 }
 
 void PatchDictionary::requireAtoms() const

@@ -2,7 +2,7 @@
 
 #include <pcl_patchdict/io/atomic_file.h>
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/coding/patch_dictionary.h>
+#include <pcl_patchdict/core/checksum.h>
 #include <pcl_patchdict/patches/patch_set.h>
 #include <pcl_patchdict/io/png_writer.h>
 

@@ -3,7 +3,7 @@
 
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/geometry/metrics.h>
-#include <pcl_patchdict/patches/patch_mesh_reconstruction.h>
+#include <pcl_patchdict/core/local_frame.h>
 #include <pcl_patchdict/core/vertex_normals.h>
 #include <pcl_patchdict/pcl/conversions.h>
 

@@ -1,5 +1,6 @@
 // PatchCodec (.pdc) on bad data and bad use: crafted, truncated, corrupted and foreign files, decompression
 // bombs, other format versions, bad parameters, and the compress/decompress commands' one-line errors.
+#include <pcl_patchdict/core/checksum.h>
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/patches/height_maps.h>
 #include <pcl_patchdict/io/mesh_io.h>

@@ -1,4 +1,5 @@
 // PatchSet: .pds round trip bit for bit, rejection of damaged files with one line, PNG output.
+#include <pcl_patchdict/core/checksum.h>
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/patches/height_maps.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>

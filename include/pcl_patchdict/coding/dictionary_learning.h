@@ -3,6 +3,8 @@
 // large or streamed patch sets. Both accept a mask of observed entries (training on damaged shapes).
 #pragma once
 
+#include <pcl_patchdict/core/observation_mask.h>
+
 #include <pcl_patchdict/coding/sparse_coding.h>
 
 #include <Eigen/Core>
@@ -15,8 +17,6 @@
 
 namespace pcl {
 namespace patchdict {
-
-using ObservationMask = Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>;
 
 struct KSVDParameters {
   int num_atoms = 100;

@@ -125,8 +125,5 @@ private:
 double observedRMSE(const Eigen::MatrixXd& estimate, const Eigen::MatrixXd& heights,
                     const ObservationMask& mask = ObservationMask());
 
-/** 64-bit FNV-1a of a byte range: the checksum of the project's binary formats. */
-std::uint64_t fnv1a64(const void* data, std::size_t size, std::uint64_t hash = 0xcbf29ce484222325ULL);
-
 }  // namespace patchdict
 }  // namespace pcl

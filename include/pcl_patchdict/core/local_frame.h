@@ -19,5 +19,12 @@ namespace patchdict {
   * byte-identically. Rounding a rounded frame changes nothing. */
 Eigen::Matrix3d roundToSinglePrecision(const Eigen::Matrix3d& frame);
 
+/** \brief What a patch covers: p lies in the r-ball of the seed, inside the patch's square (side √2·r)
+  * in its frame, and its normal (zero if unknown) does not face away from the frame's Z. `local`, if
+  * given, receives p in the frame. The one test of the patch mapping (PatchMeshReconstruction), the
+  * layout's coverage seeds and the patch correction, so all agree on what a patch covers. */
+bool patchContains(const Eigen::Vector3d& seed, const Eigen::Matrix3d& rotation, double radius,
+                   const Eigen::Vector3d& p, const Eigen::Vector3d& normal, Eigen::Vector3d* local = nullptr);
+
 }  // namespace patchdict
 }  // namespace pcl

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <pcl_patchdict/patches/patch_set.h>
+#include <pcl_patchdict/core/local_frame.h>  // patchContains
 #include <pcl_patchdict/core/triangle_mesh.h>
 
 #include <memory>
@@ -79,13 +80,6 @@ private:
   std::shared_ptr<const TriangleMesh> target_;
   Rule rule_ = Rule::Bilinear;
 };
-
-/** \brief The mapping's membership test: p lies in the r-ball of the seed, inside the patch's square
-  * (side √2·r) in its frame, and its normal (zero if unknown) does not face away from the frame's
-  * Z. `local`, if given, receives p in the frame. Used by the mapping and by PatchLayout's
-  * coverage seeds, so both agree on what a patch covers. */
-bool patchContains(const Eigen::Vector3d& seed, const Eigen::Matrix3d& rotation, double radius,
-                   const Eigen::Vector3d& p, const Eigen::Vector3d& normal, Eigen::Vector3d* local = nullptr);
 
 /** \brief The point-cloud form of a patch set (for cloud inputs, which have no vertices to move):
   * every observed bin of every patch as a 3D point — the bin centre at its height, in world

@@ -2,7 +2,7 @@
 // radius r, per patch its seed s and frame R_s, its N² heights and which bins were observed; saved as .pds.
 #pragma once
 
-#include <pcl_patchdict/coding/dictionary_learning.h>
+#include <pcl_patchdict/core/observation_mask.h>
 
 #include <Eigen/Core>
 

@@ -1,0 +1,179 @@
+// The stage order of docs/layout.md as a test: every include in include/, src/ and apps/ is read, and
+// an include of a later stage (or of the evaluation code from the library) fails, with its file and line.
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The order and the PCL skin as docs/layout.md states them: the stage table's first column, top to
+/// bottom, and the names after "skin:" in the `pcl` row.
+struct StageOrder {
+  std::vector<std::string> stages;
+  std::vector<std::string> skin;
+  int index(const std::string& stage) const
+  {
+    const auto it = std::find(stages.begin(), stages.end(), stage);
+    return it == stages.end() ? -1 : static_cast<int>(it - stages.begin());
+  }
+};
+
+std::vector<std::string> backticked(const std::string& text)
+{
+  std::vector<std::string> out;
+  const std::regex name("`([a-z_]+)`");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), name); it != std::sregex_iterator(); ++it)
+    out.push_back((*it)[1]);
+  return out;
+}
+
+StageOrder readStageOrder(const fs::path& layout)
+{
+  StageOrder order;
+  std::ifstream in(layout);
+  std::string line;
+  bool table = false;
+  while (std::getline(in, line)) {
+    if (line.rfind("| stage |", 0) == 0) {
+      table = true;
+      continue;
+    }
+    if (!table || line.rfind("|---", 0) == 0)
+      continue;
+    if (line.rfind("| `", 0) != 0)
+      break;  // the table's end
+    const std::string first = line.substr(0, line.find('|', 1));
+    const std::vector<std::string> names = backticked(first);
+    if (names.size() == 1)
+      order.stages.push_back(names[0]);
+    const std::size_t skin = line.find("skin:");
+    if (names.size() == 1 && skin != std::string::npos)
+      order.skin = backticked(line.substr(skin, line.find('|', skin) - skin));
+  }
+  return order;
+}
+
+/// The stage a file belongs to: include/pcl_patchdict/<stage>/…, src/<stage>/…; "apps" for the tool.
+std::string stageOf(const fs::path& relative)
+{
+  std::vector<std::string> parts;
+  for (const auto& part : relative)
+    parts.push_back(part.string());
+  if (parts.size() >= 3 && parts[0] == "include" && parts[1] == "pcl_patchdict")
+    return parts[2];
+  if (parts.size() >= 2 && parts[0] == "src")
+    return parts[1];
+  return parts.empty() ? "" : parts[0];
+}
+
+/// Every include that runs against the order, as "file:line: why".
+std::vector<std::string> orderViolations(const fs::path& root, const StageOrder& order)
+{
+  std::vector<std::string> out;
+  // <pcl_patchdict/STAGE/…> or a private "STAGE/…"; <pcl/…> is PCL's own and not a stage.
+  const std::regex include_line(R"(^\s*#\s*include\s*(<pcl_patchdict/([a-z_]+)/[^>]+>|"([a-z_]+)/[^"]+"))");
+  std::vector<fs::path> files;
+  for (const char* top : {"include", "src", "apps"})
+    if (fs::exists(root / top))
+      for (const auto& entry : fs::recursive_directory_iterator(root / top)) {
+        const std::string ext = entry.path().extension().string();
+        if (entry.is_regular_file() && (ext == ".h" || ext == ".hpp" || ext == ".cpp"))
+          files.push_back(entry.path());
+      }
+  std::sort(files.begin(), files.end());
+  for (const fs::path& file : files) {
+    const fs::path relative = fs::relative(file, root);
+    const std::string stage = stageOf(relative);
+    const bool library = stage != "apps" && stage != "eval";
+    if (library && order.index(stage) < 0) {
+      out.push_back(relative.string() + ": its folder '" + stage + "' is no stage of docs/layout.md");
+      continue;
+    }
+    const bool skin = stage == "pcl" && std::count(order.skin.begin(), order.skin.end(), file.stem().string()) > 0;
+    std::ifstream in(file);
+    std::string line;
+    for (int number = 1; std::getline(in, line); ++number) {
+      std::smatch m;
+      if (!std::regex_search(line, m, include_line))
+        continue;
+      const std::string target = m[2].matched ? m[2].str() : m[3].str();
+      const std::string where = relative.string() + ":" + std::to_string(number) + ": " + m[1].str();
+      if (target == "eval") {
+        if (library)
+          out.push_back(where + ": the library includes the evaluation code");
+        continue;
+      }
+      if (order.index(target) < 0 || !library)
+        continue;  // the tool and the evaluation code may use every stage; "x/y.h" of no stage is local
+      // The skin sits after the stages it serves, up to `coding`.
+      const int allowed = skin ? std::max(order.index(stage), order.index("coding")) : order.index(stage);
+      if (order.index(target) > allowed)
+        out.push_back(where + ": stage '" + target + "' comes after '" + stage + "' in docs/layout.md");
+    }
+  }
+  return out;
+}
+
+std::string joined(const std::vector<std::string>& lines)
+{
+  std::ostringstream out;
+  for (const std::string& line : lines)
+    out << "  " << line << "\n";
+  return out.str();
+}
+
+TEST(IncludeOrder, TheTreeFollowsTheStageOrderOfTheLayoutPage)
+{
+  const fs::path root = PCL_PATCHDICT_SOURCE_DIR;
+  const StageOrder order = readStageOrder(root / "docs" / "layout.md");
+  ASSERT_GE(order.stages.size(), 10u) << "the stage table of docs/layout.md was not found";
+  EXPECT_EQ(order.stages.front(), "core");
+  EXPECT_EQ(order.skin.size(), 3u);
+  const std::vector<std::string> violations = orderViolations(root, order);
+  EXPECT_TRUE(violations.empty()) << violations.size() << " includes run against the stage order:\n"
+                                  << joined(violations);
+}
+
+// A planted tree: a wrong include in each place the check reads is found, with its file and line, and
+// the allowed ones (an earlier stage, PCL's own headers, the skin's, the tool's) are not.
+TEST(IncludeOrder, APlantedWrongIncludeIsFound)
+{
+  const fs::path root = fs::temp_directory_path() / ("include_order_" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  const auto write = [&](const std::string& path, const std::string& text) {
+    fs::create_directories((root / path).parent_path());
+    std::ofstream(root / path) << text;
+  };
+  write("include/pcl_patchdict/core/a.h", "#pragma once\n#include <pcl_patchdict/core/b.h>\n#include <pcl/point_types.h>\n");
+  write("include/pcl_patchdict/geometry/g.h", "#pragma once\n\n  #  include <pcl_patchdict/cloud/c.h>\n");
+  write("src/quads/q.cpp", "#include \"patches/private.h\"\n#include <pcl_patchdict/geometry/g.h>\n");
+  write("src/io/r.cpp", "#include <pcl_patchdict/eval/shapes.h>\n");
+  write("src/pcl/quad_frame_estimation.cpp", "#include <pcl_patchdict/coding/sparse_coding.h>\n");
+  write("src/pcl/conversions.cpp", "#include <pcl_patchdict/quads/quad_mesh.h>\n");
+  write("apps/cmd.cpp", "#include <pcl_patchdict/cloud/c.h>\n#include <pcl_patchdict/eval/shapes.h>\n");
+  StageOrder order;
+  order.stages = {"core", "pcl", "io", "geometry", "quads", "patches", "coding", "repair", "codec", "cloud"};
+  order.skin = {"quad_frame_estimation"};
+  const std::vector<std::string> found = orderViolations(root, order);
+  fs::remove_all(root);
+  ASSERT_EQ(found.size(), 4u) << joined(found);
+  EXPECT_EQ(found[0].rfind("include/pcl_patchdict/geometry/g.h:3: <pcl_patchdict/cloud/c.h>", 0), 0u) << found[0];
+  EXPECT_EQ(found[1].rfind("src/io/r.cpp:1:", 0), 0u) << found[1];
+  EXPECT_NE(found[1].find("evaluation code"), std::string::npos) << found[1];
+  EXPECT_EQ(found[2].rfind("src/pcl/conversions.cpp:1:", 0), 0u) << found[2];  // not skin
+  EXPECT_EQ(found[3].rfind("src/quads/q.cpp:1: \"patches/private.h\"", 0), 0u) << found[3];
+}
+
+}  // namespace
