@@ -4,8 +4,8 @@
 #include "options.h"
 
 #include <pcl_patchdict/io/atomic_file.h>
-#include <pcl_patchdict/eval/mesh_render.h>
-#include <pcl_patchdict/eval/repair_figure.h>
+#include <pcl_patchdict_eval/mesh_render.h>
+#include <pcl_patchdict_eval/repair_figure.h>
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/codec/patch_codec.h>

@@ -9,12 +9,12 @@
 #include "repair_report.h"
 
 #include <pcl_patchdict/geometry/hole_filling.h>
-#include <pcl_patchdict/eval/mesh_damage.h>
-#include <pcl_patchdict/eval/repair_figure.h>
+#include <pcl_patchdict_eval/mesh_damage.h>
+#include <pcl_patchdict_eval/repair_figure.h>
 #include <pcl_patchdict/geometry/mesh_hygiene.h>
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/core/normalization.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 #include <pcl_patchdict/repair/patch_repairs.h>
 
 #include <chrono>

@@ -5,7 +5,7 @@
 
 #include <pcl_patchdict/io/atomic_file.h>
 #include <pcl_patchdict/geometry/mesh_hygiene.h>
-#include <pcl_patchdict/eval/mesh_render.h>
+#include <pcl_patchdict_eval/mesh_render.h>
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/quads/patch_layout.h>
 

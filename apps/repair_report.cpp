@@ -4,8 +4,8 @@
 #include "repair_report.h"
 
 #include <pcl_patchdict/io/atomic_file.h>
-#include <pcl_patchdict/eval/mesh_render.h>
-#include <pcl_patchdict/eval/repair_figure.h>
+#include <pcl_patchdict_eval/mesh_render.h>
+#include <pcl_patchdict_eval/repair_figure.h>
 #include <pcl_patchdict/geometry/metrics.h>
 
 #include <algorithm>

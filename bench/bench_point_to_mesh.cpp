@@ -4,7 +4,7 @@
 // half within ~1 % of the box diagonal of the surface (the case the metrics mostly see).
 // Items/s in the output are queries per second.
 #include <pcl_patchdict/geometry/metrics.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include <benchmark/benchmark.h>
 

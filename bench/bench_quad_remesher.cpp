@@ -9,7 +9,7 @@
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/quads/quad_remesher.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include <benchmark/benchmark.h>
 

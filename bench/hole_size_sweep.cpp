@@ -10,7 +10,7 @@
 // columns: mesh, radius, removed vertices, relief (0/1), prediction gain, patch side, hole
 // diameter / patch side, Liepa removed→out, patches removed→out, Liepa new→GT, patches new→GT,
 // ratio removed→out (patches / Liepa).
-#include <pcl_patchdict/eval/mesh_damage.h>
+#include <pcl_patchdict_eval/mesh_damage.h>
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/repair/patch_repairs.h>

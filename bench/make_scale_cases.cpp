@@ -4,11 +4,11 @@
 // sizes subdivide the holed scan, so they have its holes exactly). Writes binary PLY:
 //   OUT/<stem>_<faces>.ply        the intact mesh      OUT/<stem>_<faces>_holes.ply   with holes
 // usage: make_scale_cases MESH OUT [--seed S] [--levels N]   (N sizes, 1–4, smallest first; default 4)
-#include <pcl_patchdict/eval/mesh_damage.h>
+#include <pcl_patchdict_eval/mesh_damage.h>
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/geometry/mesh_hygiene.h>
 #include <pcl_patchdict/core/normalization.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 #include <pcl_patchdict/pcl/conversions.h>
 
 #include <pcl/surface/vtk_smoothing/vtk_mesh_quadric_decimation.h>

@@ -7,7 +7,7 @@
 //
 // usage: repair_pictures TRUTH INPUT LABEL=OUTPUT... -o FIGURE.png [--error-scale E]
 //        [--centre X,Y,Z --radius R] [--pixels N]
-#include <pcl_patchdict/eval/repair_figure.h>
+#include <pcl_patchdict_eval/repair_figure.h>
 #include <pcl_patchdict/io/mesh_io.h>
 
 #include <cstdio>

@@ -15,7 +15,7 @@
 // The cases are this program's own (mesh_damage.h), not the harness's: figures differ from
 // the independent harness's baselines by the draw of the damage, not by the protocol.
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/eval/mesh_damage.h>
+#include <pcl_patchdict_eval/mesh_damage.h>
 #include <pcl_patchdict/geometry/mesh_fairing.h>
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/geometry/metrics.h>

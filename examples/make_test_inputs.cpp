@@ -2,7 +2,7 @@
 //   make_test_inputs cloud MESH OUT.pcd   20 000 points sampled on MESH, Gaussian noise, 1 % outliers
 //   make_test_inputs holes MESH OUT.ply   MESH with 4 round holes punched (radius 2 % of the diagonal)
 // Both seeded: the same files on every run.
-#include <pcl_patchdict/eval/mesh_damage.h>
+#include <pcl_patchdict_eval/mesh_damage.h>
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/core/surface_sampling.h>
 #include <pcl_patchdict/core/triangle_mesh.h>

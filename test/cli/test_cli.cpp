@@ -2,7 +2,7 @@
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
 #include <pcl_patchdict/patches/patch_set.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include "test_support.h"
 

@@ -6,7 +6,7 @@
 // triangle may be refused a quad layout or an inpainting, cleanly), and a result must be finite and at the input's scale.
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include "test_support.h"
 

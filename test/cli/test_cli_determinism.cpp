@@ -2,9 +2,9 @@
 // subcommand that writes one (issue 10). Per-patch and per-vertex loops write to their own slots and
 // every reduction runs in a fixed order, so there is nothing to bound: the bytes must match.
 #include <pcl_patchdict/io/index_io.h>
-#include <pcl_patchdict/eval/mesh_damage.h>
+#include <pcl_patchdict_eval/mesh_damage.h>
 #include <pcl_patchdict/io/mesh_io.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include "coding/correlations.h"
 #include "test_support.h"

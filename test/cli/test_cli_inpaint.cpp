@@ -2,7 +2,7 @@
 // missing vertices of a plane exactly and keeps the known ones; bad input gets one error line.
 #include <pcl_patchdict/io/index_io.h>
 #include <pcl_patchdict/io/mesh_io.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include "test_support.h"
 

@@ -4,7 +4,7 @@
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/patches/patch_set.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include "test_support.h"
 

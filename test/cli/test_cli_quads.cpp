@@ -1,7 +1,7 @@
 // `pcl_patchdict quads` as a user meets it: a quad mesh of the bundled bunny that meets the
 // issue's quality bounds, frames that can be read back, clear errors for bad input.
 #include <pcl_patchdict/io/mesh_io.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include "test_support.h"
 

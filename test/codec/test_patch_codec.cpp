@@ -8,7 +8,7 @@
 #include <pcl_patchdict/codec/patch_codec.h>
 #include <pcl_patchdict/quads/patch_layout.h>
 #include <pcl_patchdict/quads/quad_subdivision.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include "test_support.h"
 

@@ -1,6 +1,6 @@
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/core/mesh_topology.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include <gtest/gtest.h>
 

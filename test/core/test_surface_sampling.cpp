@@ -2,7 +2,7 @@
 // choice and uniformity inside faces (binomial / CLT bounds at 4 standard deviations), errors.
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/geometry/metrics.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 #include <pcl_patchdict/core/surface_sampling.h>
 
 #include <gtest/gtest.h>

@@ -1,8 +1,8 @@
 // Seeded damage for the demo and the benchmarks: holes where asked, fractions as asked, noise of σ.
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/eval/mesh_damage.h>
+#include <pcl_patchdict_eval/mesh_damage.h>
 #include <pcl_patchdict/geometry/mesh_hygiene.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include <gtest/gtest.h>
 

@@ -2,9 +2,9 @@
 // when asked, close-up windows, the error colour map, panels and text, a PNG that zlib inflates
 // back to the exact pixels.
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/eval/mesh_render.h>
-#include <pcl_patchdict/eval/picture_layout.h>
-#include <pcl_patchdict/eval/repair_figure.h>
+#include <pcl_patchdict_eval/mesh_render.h>
+#include <pcl_patchdict_eval/picture_layout.h>
+#include <pcl_patchdict_eval/repair_figure.h>
 #include <pcl_patchdict/io/png_writer.h>
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 #pragma once
 
 #include <pcl_patchdict/core/triangle_mesh.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 #include <pcl_patchdict/geometry/mesh_hygiene.h>
 
 #include <Eigen/Core>

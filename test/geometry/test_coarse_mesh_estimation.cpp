@@ -4,7 +4,7 @@
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/core/normalization.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 #include <pcl_patchdict/core/surface_sampling.h>
 #include <pcl_patchdict/core/vertex_normals.h>
 #include <pcl_patchdict/pcl/conversions.h>

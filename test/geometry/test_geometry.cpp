@@ -1,7 +1,7 @@
 // Normalisation, vertex normals, procedural shapes and the PCL conversions of TriangleMesh.
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/core/normalization.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 #include <pcl_patchdict/core/triangle_mesh.h>
 #include <pcl_patchdict/core/vertex_normals.h>
 #include <pcl_patchdict/pcl/conversions.h>

@@ -1,6 +1,6 @@
 #include <pcl_patchdict/geometry/mesh_hygiene.h>
 #include <pcl_patchdict/io/mesh_io.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include "test_support.h"
 

@@ -3,7 +3,7 @@
 // all faces, closed-form distances to planes and spheres, surface distances and PSNR, vertex RMSE.
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/geometry/metrics.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // TaubinSmoother: a plane is a fixed point, noise shrinks, rims stay in place.
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 #include <pcl_patchdict/geometry/taubin_smoothing.h>
 
 #include <gtest/gtest.h>

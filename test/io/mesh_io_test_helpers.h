@@ -4,7 +4,7 @@
 
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/core/triangle_mesh.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 #include <pcl_patchdict/io/mesh_io.h>
 
 #include "test_support.h"

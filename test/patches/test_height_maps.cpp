@@ -2,7 +2,7 @@
 // sinusoidal relief and a sphere in mesh mode; bin-centred grids in cloud mode; determinism; errors.
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/patches/height_maps.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 #include <pcl_patchdict/patches/height_maps.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
 #include <pcl_patchdict/patches/patch_set.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 // pcl::PolygonMesh; seeds without a frame; every misuse an Error.
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/core/local_frame.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 #include <pcl_patchdict/patches/height_maps.h>
 #include <pcl_patchdict/pcl/conversions.h>
 #include <pcl_patchdict/pcl/height_map_patch_extractor.h>

@@ -3,7 +3,7 @@
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/core/mesh_topology.h>
 #include <pcl_patchdict/quads/orientation_field.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 #include <pcl_patchdict/core/vertex_normals.h>
 
 #include <gtest/gtest.h>

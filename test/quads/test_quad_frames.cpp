@@ -10,7 +10,7 @@
 #include <pcl_patchdict/quads/patch_layout.h>
 #include <pcl_patchdict/quads/quad_frames.h>
 #include <pcl_patchdict/quads/quad_remesher.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include "test_support.h"
 

@@ -4,7 +4,7 @@
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/quads/position_field.h>
 #include <pcl_patchdict/quads/quad_remesher.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include <gtest/gtest.h>
 

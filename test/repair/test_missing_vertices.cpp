@@ -2,7 +2,7 @@
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/repair/patch_constrained_solve.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 #include <pcl_patchdict/repair/patch_repairs.h>
 
 #include <gtest/gtest.h>

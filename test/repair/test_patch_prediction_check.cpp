@@ -1,9 +1,9 @@
 // checkPatchPrediction: a relief is predictable from its own patches, white noise is not, and too
 // little evidence gives no verdict.
-#include <pcl_patchdict/eval/mesh_damage.h>
+#include <pcl_patchdict_eval/mesh_damage.h>
 #include <pcl_patchdict/repair/patch_correction.h>
 #include <pcl_patchdict/repair/patch_prediction_check.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // threads, and the ownership rule — a class that keeps an input shares it, so an input passed as a
 // temporary cannot dangle.
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 #include <pcl_patchdict/geometry/coarse_mesh_estimation.h>
 #include <pcl_patchdict/geometry/hole_filling.h>
 #include <pcl_patchdict/patches/patch_mesh_reconstruction.h>

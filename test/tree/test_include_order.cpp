@@ -82,8 +82,10 @@ std::string stageOf(const fs::path& relative)
 std::vector<std::string> orderViolations(const fs::path& root, const StageOrder& order)
 {
   std::vector<std::string> out;
-  // <pcl_patchdict/STAGE/…> or a private "STAGE/…"; <pcl/…> is PCL's own and not a stage.
-  const std::regex include_line(R"(^\s*#\s*include\s*(<pcl_patchdict/([a-z_]+)/[^>]+>|"([a-z_]+)/[^"]+"))");
+  // <pcl_patchdict/STAGE/…> or a private "STAGE/…"; <pcl/…> is PCL's own and not a stage;
+  // <pcl_patchdict_eval/…> is the evaluation library's.
+  const std::regex include_line(
+      R"(^\s*#\s*include\s*(<pcl_patchdict/([a-z_]+)/[^>]+>|"([a-z_]+)/[^"]+"|<pcl_patchdict_(eval)/[^>]+>))");
   std::vector<fs::path> files;
   for (const char* top : {"include", "src", "apps"})
     if (fs::exists(root / top))
@@ -108,7 +110,7 @@ std::vector<std::string> orderViolations(const fs::path& root, const StageOrder&
       std::smatch m;
       if (!std::regex_search(line, m, include_line))
         continue;
-      const std::string target = m[2].matched ? m[2].str() : m[3].str();
+      const std::string target = m[2].matched ? m[2].str() : m[3].matched ? m[3].str() : m[4].str();
       const std::string where = relative.string() + ":" + std::to_string(number) + ": " + m[1].str();
       if (target == "eval") {
         if (library)
@@ -159,10 +161,10 @@ TEST(IncludeOrder, APlantedWrongIncludeIsFound)
   write("include/pcl_patchdict/core/a.h", "#pragma once\n#include <pcl_patchdict/core/b.h>\n#include <pcl/point_types.h>\n");
   write("include/pcl_patchdict/geometry/g.h", "#pragma once\n\n  #  include <pcl_patchdict/cloud/c.h>\n");
   write("src/quads/q.cpp", "#include \"patches/private.h\"\n#include <pcl_patchdict/geometry/g.h>\n");
-  write("src/io/r.cpp", "#include <pcl_patchdict/eval/shapes.h>\n");
+  write("src/io/r.cpp", "#include <pcl_patchdict_eval/shapes.h>\n");
   write("src/pcl/quad_frame_estimation.cpp", "#include <pcl_patchdict/coding/sparse_coding.h>\n");
   write("src/pcl/conversions.cpp", "#include <pcl_patchdict/quads/quad_mesh.h>\n");
-  write("apps/cmd.cpp", "#include <pcl_patchdict/cloud/c.h>\n#include <pcl_patchdict/eval/shapes.h>\n");
+  write("apps/cmd.cpp", "#include <pcl_patchdict/cloud/c.h>\n#include <pcl_patchdict_eval/shapes.h>\n");
   StageOrder order;
   order.stages = {"core", "pcl", "io", "geometry", "quads", "patches", "coding", "repair", "codec", "cloud"};
   order.skin = {"quad_frame_estimation"};

@@ -4,7 +4,7 @@
 #pragma once
 
 #include <pcl_patchdict/core/triangle_mesh.h>
-#include <pcl_patchdict/eval/picture_layout.h>
+#include <pcl_patchdict_eval/picture_layout.h>
 
 #include <string>
 #include <vector>

@@ -1,5 +1,5 @@
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/eval/shapes.h>
+#include <pcl_patchdict_eval/shapes.h>
 
 #include <cmath>
 #include <functional>

@@ -1,5 +1,5 @@
 // Comparison figures of repairs: close-up windows, shaded and error-coloured panels, one camera.
-#include <pcl_patchdict/eval/repair_figure.h>
+#include <pcl_patchdict_eval/repair_figure.h>
 
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/geometry/metrics.h>

@@ -1,5 +1,5 @@
 // Seeded damage (see mesh_damage.h).
-#include <pcl_patchdict/eval/mesh_damage.h>
+#include <pcl_patchdict_eval/mesh_damage.h>
 
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/geometry/metrics.h>

@@ -1,7 +1,7 @@
 // Software rendering of polygon meshes: orthographic projection, z-buffered triangle fill with
 // barycentric depth, normals and colours, a key light with ambient and specular, depth-tested
 // edge lines.
-#include <pcl_patchdict/eval/mesh_render.h>
+#include <pcl_patchdict_eval/mesh_render.h>
 
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/io/atomic_file.h>

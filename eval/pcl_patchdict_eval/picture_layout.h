@@ -3,7 +3,7 @@
 // capitals), PNG output.
 #pragma once
 
-#include <pcl_patchdict/eval/mesh_render.h>
+#include <pcl_patchdict_eval/mesh_render.h>
 
 #include <string>
 #include <vector>

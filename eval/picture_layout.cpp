@@ -1,5 +1,5 @@
 // Picture layout: a 5×7 bitmap font, panel grids and a colour bar, over RGBImage.
-#include <pcl_patchdict/eval/picture_layout.h>
+#include <pcl_patchdict_eval/picture_layout.h>
 
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/io/atomic_file.h>
