@@ -15,8 +15,9 @@ namespace patchdict {
 
 using Face = std::array<std::int32_t, 3>;
 
-/** \brief Indexed triangle mesh (PMP-style plain data): vertices, triangles, optional normals.
-  * A mesh with no faces is a point cloud. Vertex indices in faces are 0-based. */
+/** \brief Indexed triangle mesh as plain data — a vertex/face soup: vertices, triangles, optional
+  * normals, and no connectivity (MeshTopology builds the edges and neighbours when a stage needs
+  * them). A mesh with no faces is a point cloud. Vertex indices in faces are 0-based. */
 struct TriangleMesh {
   std::vector<Eigen::Vector3d> vertices;
   std::vector<Face> faces;

@@ -11,7 +11,7 @@
 
 #include "test_support.h"
 
-#include "hole_test_shapes.h"
+#include "geometry/hole_test_shapes.h"
 
 #include <gtest/gtest.h>
 
