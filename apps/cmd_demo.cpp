@@ -87,7 +87,8 @@ template <class Options, class Report, class Run>
 Report timedRepair(bool patches, Row& row, Run run)
 {
   Options options;
-  options.use_patches = patches;
+  if (!patches)
+    options.decision.mode = PatchDecision::Never;
   Report report;
   row.seconds = secondsOf([&] { run(options, report); });
   return report;
@@ -185,7 +186,7 @@ void demoDenoise(Demo& demo)
     const DenoiseReport report = timedRepair<DenoiseOptions, DenoiseReport>(
         patches, row, [&](const auto& options, auto& report) { denoiseWithPatches(noisy, denoised, options, &report); });
     if (patches) {  // the patches go in only when measured to help: the row says what was decided
-      row.decision = report.patch_decision;
+      row.decision = report.outcome == PatchOutcome::NotRun ? "" : toString(report.outcome);
       row.method += " (" + row.decision + ")";
     }
     row.error = 1e3 * vertexRMSE(demo.truth, denoised);

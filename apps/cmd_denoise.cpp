@@ -48,7 +48,7 @@ int runDenoise(const std::vector<std::string>& raw)
   parameters.fidelity = args.getDouble("fidelity");
   parameters.base_iterations = static_cast<int>(args.getInt("base-iterations"));
   parameters.discrepancy = args.getDouble("discrepancy");
-  parameters.decision = args.getWord("patch-decision") == "always" ? PatchDecision::Always : PatchDecision::Auto;
+  parameters.decision.mode = args.getWord("patch-decision") == "always" ? PatchDecision::Always : PatchDecision::Auto;
   StageTimer timer(quiet);
   const RepairInputs inputs = loadRepairInputs(line, parameters.grid_size, "denoise", timer);
   const TriangleMesh& mesh = inputs.mesh;
@@ -66,12 +66,13 @@ int runDenoise(const std::vector<std::string>& raw)
                 report.noise_sigma / std::max(report.mean_edge_length, 1e-300));
   note(quiet, sigma_line);
   note(quiet, "  base: Taubin smoothing, " + std::to_string(report.base_iterations) + " iterations");
-  if (!report.patch_decision.empty())
+  const bool patch_stage_ran = report.outcome != PatchOutcome::NotRun;
+  if (patch_stage_ran)
     note(quiet, patchStageSummary(report.patches));
   if (report.base_error >= 0.0) {  // measured, not forced
     char decision[200];
     std::snprintf(decision, sizeof decision, "  patches %s: estimated error %.4g with them, %.4g without (Stein)",
-                  report.patch_decision.c_str(), report.patch_error, report.base_error);
+                  toString(report.outcome), report.patch_error, report.base_error);
     note(quiet, decision);
   }
 
@@ -88,8 +89,8 @@ int runDenoise(const std::vector<std::string>& raw)
     json.add("noise_sigma", report.noise_sigma).add("noise_estimated", report.noise_estimated);
     json.add("base_iterations", report.base_iterations);
     json.add("noise_sigma_over_mean_edge", report.noise_sigma / std::max(report.mean_edge_length, 1e-300));
-    if (!report.patch_decision.empty()) {
-      json.add("patch_decision", report.patch_decision);
+    if (patch_stage_ran) {
+      json.add("patch_decision", toString(report.outcome));
       if (report.base_error >= 0.0)
         json.add("estimated_error", JsonObject()
                                         .add("base", report.base_error)
@@ -106,7 +107,7 @@ int runDenoise(const std::vector<std::string>& raw)
   } else if (!quiet) {
     std::printf("denoised %zu vertices (%s) -> %s\n", mesh.numVertices(),
                 report.used_patches ? (dictionary_kind + " dictionary").c_str()
-                : report.patch_decision == "declined" ? "Taubin base: the patches were measured not to help"
+                : report.outcome == PatchOutcome::Declined ? "Taubin base: the patches were measured not to help"
                                                        : "Taubin base alone",
                 out_path.c_str());
   }

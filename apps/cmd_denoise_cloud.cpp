@@ -430,7 +430,7 @@ JsonObject rangeImageJson(const CloudRepairResult& result, bool fill)
 JsonObject patchStageJson(const CloudPatchReport& p, double scale)
 {
   JsonObject patches;
-  patches.add("decision", p.decision).add("reason", p.reason);
+  patches.add("decision", toString(p.outcome)).add("reason", p.reason);
   if (p.hole_diameter > 0.0)
     patches.add("holes", p.holes).add("hole_diameter", p.hole_diameter / scale);
   patches.add("gain", p.gain).add("dictionary_rms", p.dictionary_rms / scale)

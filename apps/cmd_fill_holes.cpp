@@ -90,7 +90,7 @@ int runFillHoles(const std::vector<std::string>& raw)
   HoleRepairOptions parameters;
   readRepairOptions(args, parameters);
   parameters.constraint_weight = args.getDouble("mu");
-  parameters.hole_quad_factor = args.getDouble("hole-factor");
+  parameters.decision.quad_factor = args.getDouble("hole-factor");
   const std::string surface = args.getWord("surface");
   parameters.hole_settings = surface == "smooth"   ? HoleSettings::Smooth
                              : surface == "relief" ? HoleSettings::Relief

@@ -90,7 +90,8 @@ void readRepairOptions(const Arguments& args, PatchRepairCommon& options)
 
 void setPatchSource(PatchRepairCommon& options, const PatchDictionary::ConstPtr& dictionary, bool use_patches)
 {
-  options.use_patches = use_patches;
+  if (!use_patches)
+    options.decision.mode = PatchDecision::Never;
   options.dictionary = use_patches ? dictionary : nullptr;
 }
 

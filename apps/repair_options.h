@@ -46,7 +46,7 @@ TriangleMesh loadRepairMesh(const std::string& path, bool quiet, const std::stri
   * --error-scale without --ref. */
 void readRepairOptions(const Arguments& args, PatchRepairCommon& options);
 /** The patch source, once the inputs are loaded: `dictionary` (null: self-similar) when
-  * `use_patches`, none otherwise. */
+  * `use_patches`, none otherwise (decision Never: the geometric base alone). */
 void setPatchSource(PatchRepairCommon& options, const PatchDictionary::ConstPtr& dictionary, bool use_patches);
 
 /** What --report DIR [--ref REF [--error-scale E]] asks for. */

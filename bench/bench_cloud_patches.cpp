@@ -61,7 +61,7 @@ void BM_ReliefCloudCompletion(benchmark::State& state)
     inpainter.process(out);
     const CloudPatchReport& r = inpainter.getPatchReport();
     state.counters["added"] = static_cast<double>(inpainter.getReport().points_added);
-    state.counters["applied"] = r.decision == "applied" ? 1.0 : 0.0;
+    state.counters["applied"] = r.outcome == pcl::patchdict::PatchOutcome::Applied ? 1.0 : 0.0;
     state.counters["s_layout"] = r.seconds_layout;
     state.counters["s_check"] = r.seconds_check;
     state.counters["s_patches"] = r.seconds_patches;

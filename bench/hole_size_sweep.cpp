@@ -73,7 +73,7 @@ int main(int argc, char** argv)
           options.quad_length = quad_length;
           if (quad_length > 0.0)
             options.patch_scale = patch_scale;
-          options.use_patches = patches == 1;
+          options.decision.mode = patches == 1 ? PatchDecision::Auto : PatchDecision::Never;
           TriangleMesh out;
           fillHolesWithPatches(holed.mesh, out, options, &report);
           const HoleFillScore score = scoreHoleFill(truth, holed, out);

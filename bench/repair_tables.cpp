@@ -51,7 +51,8 @@ struct Result {
 template <class Options, class Report, class Run>
 Result timedRepair(Options options, bool patches, const PatchDictionary::ConstPtr& dictionary, Run run)
 {
-  options.use_patches = patches;
+  if (!patches)
+    options.decision.mode = PatchDecision::Never;
   options.dictionary = patches ? dictionary : nullptr;  // as the tool: no dictionary without patches
   Report report;
   const double start = now();
@@ -115,7 +116,7 @@ Result denoiseCase(const TriangleMesh& truth, const TriangleMesh& noisy, bool pa
 {
   TriangleMesh out;
   DenoiseOptions options;
-  options.decision = PatchDecision::Always;  // the patches' own effect (the tool declines them when measured worse)
+  options.decision.mode = PatchDecision::Always;  // the patches' own effect (the tool declines them when measured worse)
   Result r = timedRepair<DenoiseOptions, DenoiseReport>(
       options, patches, dictionary,
       [&](const DenoiseOptions& o, DenoiseReport& report) { denoiseWithPatches(noisy, out, o, &report); });

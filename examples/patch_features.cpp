@@ -91,7 +91,7 @@ int main(int argc, char** argv)
     inpainter.process(repaired);
     const auto& decision = inpainter.getPatchReport();
     std::printf("hole completion: %zu points added, patches %s%s%s\n", repaired.size() - inpainter.getKeptIndices().size(),
-                decision.decision.c_str(), decision.reason.empty() ? "" : ": ", decision.reason.c_str());
+                toString(decision.outcome), decision.reason.empty() ? "" : ": ", decision.reason.c_str());
 
     std::size_t observed = 0;
     for (const auto& patch : patches)

@@ -134,35 +134,25 @@ void moveSeedsOntoPoints(const std::vector<Eigen::Vector3d>& points, PatchLayout
   }
 }
 
-/** The relief check over the probe sides: fills the report's gain and returns the chosen patch
-  * scale (× L), or 0 when no side's gain is significant. */
+/** The relief check over the probe sides (checkRelief): fills the report's gain and returns the
+  * chosen patch scale (× L), or 0 when no side's gain is significant. */
 double probeRelief(const PatchCorrection& correction, const CloudPatchOptions& o, double d, double quad_length,
                    double spacing, const PatchCorrectionParameters& p, CloudPatchReport& r)
 {
-  std::vector<double> scales;
-  for (double f : o.probe_factors)
+  std::vector<double> scales, sides;
+  for (double f : o.decision.probe_factors) {
     scales.push_back(f * d / quad_length);
-  const std::vector<PatchSet> sets = correction.observedPatchesAtScales(scales);
-  double best_significant = 0.0, best_any = 0.0, best_scale = 0.0;
-  for (std::size_t i = 0; i < sets.size(); ++i) {
-    const double side = scales[i] * quad_length;
-    const PatchPredictionCheck check =
-        checkPatchPrediction(sets[i], std::min(o.probe_radius * d, 0.3 * side), o.dictionary, p, 10);
-    const bool significant = check.biharmonic_rms - check.dictionary_rms >= o.min_improvement * spacing;
-    const bool record = significant ? check.gain > best_significant : best_significant == 0.0 && check.gain > best_any;
-    if (record) {
-      r.dictionary_rms = check.dictionary_rms;
-      r.biharmonic_rms = check.biharmonic_rms;
-      r.test_patches = check.test_patches;
-    }
-    if (significant && check.gain > best_significant) {
-      best_significant = check.gain;
-      best_scale = scales[i];
-    }
-    best_any = std::max(best_any, check.gain);
+    sides.push_back(scales.back() * quad_length);
   }
-  r.gain = best_significant > 0.0 ? best_significant : best_any;
-  return best_significant >= o.relief_gain ? best_scale : 0.0;
+  const std::vector<PatchSet> sets = correction.observedPatchesAtScales(scales);
+  const ReliefVerdict verdict = checkRelief(sets, sides, d, spacing, o.decision, o.dictionary, p);
+  if (const PatchPredictionCheck* shown = verdict.shown()) {
+    r.dictionary_rms = shown->dictionary_rms;
+    r.biharmonic_rms = shown->biharmonic_rms;
+    r.test_patches = shown->test_patches;
+  }
+  r.gain = verdict.gain();
+  return verdict.relief(o.decision) ? scales[static_cast<std::size_t>(verdict.significant_side)] : 0.0;
 }
 
 /** x0 + δ, δ minimising Σ w (n·(x0 + δ − p))² + fidelity·Σw·|δ|². */
@@ -193,16 +183,11 @@ void checkCloudPatchOptions(const CloudPatchOptions& o)
     throw Error("patch fill: sparsity must be ≥ 0 and overlap in [0, 16]");
   if (!positive(o.bin_spacings) || !std::isfinite(o.bin_reach) || o.bin_reach < 0.0 || o.bin_reach > 8.0)
     throw Error("patch fill: bin spacings must be > 0 and the bin reach in [0, 8]");
-  if (!positive(o.quad_factor) || !positive(o.probe_radius) || !positive(o.relief_gain) ||
-      !std::isfinite(o.min_improvement) || o.min_improvement < 0.0 || !std::isfinite(o.fidelity) || o.fidelity < 0.0)
-    throw Error("patch fill: quad factor, probe radius and gain must be > 0, improvement and fidelity ≥ 0");
-  if (o.probe_factors.empty() || !std::all_of(o.probe_factors.begin(), o.probe_factors.end(), positive))
-    throw Error("patch fill: the probe factors must be > 0");
-  if (!positive(o.denoise_scale) || !std::isfinite(o.error_factor) || o.error_factor < 0.0 ||
-      !std::isfinite(o.min_risk_reduction) || o.min_risk_reduction < 0.0 || o.min_risk_reduction >= 1.0)
+  o.decision.check();
+  if (!positive(o.decision.quad_factor) || !std::isfinite(o.fidelity) || o.fidelity < 0.0)
+    throw Error("patch fill: the quad factor must be > 0 and the fidelity ≥ 0");
+  if (!positive(o.denoise_scale) || !std::isfinite(o.error_factor) || o.error_factor < 0.0)
     throw Error("patch denoising: the scale must be > 0 and the error factor ≥ 0");
-  if (o.probe_max_seeds < 100)
-    throw Error("patch fill: the check needs at least 100 seeds");
   if (o.layout_points < 100)
     throw Error("patch fill: the layout needs at least 100 points");
   if (o.dictionary && (o.dictionary->empty() || (o.grid_size != 0 && o.dictionary->gridSize() != o.grid_size)))
@@ -240,9 +225,9 @@ void runPatchStage(const StageInput& in, const CloudPatchOptions& o, std::vector
 
   auto t = Clock::now();
   PatchCorrectionParameters p;
-  p.quad_length = o.quad_factor * d;
+  p.quad_length = o.decision.quad_factor * d;
   p.overlap = o.overlap;
-  const double middle_side = o.probe_factors[o.probe_factors.size() / 2] * d;
+  const double middle_side = o.decision.probe_factors[o.decision.probe_factors.size() / 2] * d;
   p.grid_size = o.dictionary ? o.dictionary->gridSize()
                 : o.grid_size > 0 ? o.grid_size
                                   : std::clamp(2 * static_cast<int>(std::lround(middle_side / (2.0 * o.bin_spacings * s))), 16, 48);
@@ -263,7 +248,7 @@ void runPatchStage(const StageInput& in, const CloudPatchOptions& o, std::vector
     computePatchLayout(coarse_input, PatchCorrection::layoutParameters(p, p.quad_length), *layout);
   } catch (const Error& e) {
     // A cloud too small or too sparse for patches of this size: the geometric result stands.
-    r.decision = "declined";
+    r.outcome = PatchOutcome::Declined;
     r.reason = std::string("no patch layout: ") + e.what();
     return;
   }
@@ -286,7 +271,8 @@ void runPatchStage(const StageInput& in, const CloudPatchOptions& o, std::vector
   t = Clock::now();
   auto probe_layout = std::make_shared<PatchLayout>();
   probe_layout->quad_length = layout->quad_length;
-  const std::size_t probe_stride = (layout->seeds.size() + o.probe_max_seeds - 1) / o.probe_max_seeds;
+  const std::size_t max_seeds = o.decision.probe_max_seeds > 0 ? std::size_t(o.decision.probe_max_seeds) : layout->seeds.size();
+  const std::size_t probe_stride = std::max<std::size_t>(1, (layout->seeds.size() + max_seeds - 1) / std::max<std::size_t>(1, max_seeds));
   for (std::size_t i = 0; i < layout->seeds.size(); i += probe_stride) {
     probe_layout->seeds.push_back(layout->seeds[i]);
     probe_layout->frames.push_back(layout->frames[i]);
@@ -297,14 +283,14 @@ void runPatchStage(const StageInput& in, const CloudPatchOptions& o, std::vector
   r.seconds_check = secondsSince(t);
   r.dictionary_rms = norm.invertLength(r.dictionary_rms);
   r.biharmonic_rms = norm.invertLength(r.biharmonic_rms);
-  if (scale == 0.0 && o.decision == PatchDecision::Auto) {
-    r.decision = "declined";
+  if (scale == 0.0 && o.decision.mode == PatchDecision::Auto) {
+    r.outcome = PatchOutcome::Declined;
     r.reason = r.test_patches == 0 ? "too few fully observed patches to measure"
                                    : "the dictionary predicts hidden surface no better than a smooth fill";
     return;
   }
   if (scale == 0.0)
-    scale = o.probe_factors.front() * d / p.quad_length;
+    scale = o.decision.probe_factors.front() * d / p.quad_length;
   p.patch_scale = scale;
   correction.setParameters(p);
   r.patch_side = norm.invertLength(scale * p.quad_length);
@@ -327,7 +313,7 @@ void runPatchStage(const StageInput& in, const CloudPatchOptions& o, std::vector
   }
   r.mean_correction = r.moved_points ? moved / static_cast<double>(r.moved_points) : 0.0;
   r.seconds_patches = secondsSince(t);
-  r.decision = "applied";
+  r.outcome = PatchOutcome::Applied;
 }
 
 /** The checks and report fields both entry points start with; false when the stage must not run. */
@@ -340,10 +326,11 @@ bool startPatchStage(const std::vector<Eigen::Vector3d>& observed, const std::ve
     throw Error("patches: fewer than 100 observed points");
   requireFinite(observed, "observed");
   requireFinite(targets, "target");
-  r.decision = o.decision == PatchDecision::Never ? "declined" : "not run";
-  r.reason = o.decision == PatchDecision::Never ? "patches off" : "";
+  const bool off = o.decision.mode == PatchDecision::Never;
+  r.outcome = off ? PatchOutcome::Declined : PatchOutcome::NotRun;
+  r.reason = off ? "patches off" : "";
   r.spacing = spacing > 0.0 && std::isfinite(spacing) ? spacing : meanSpacing(observed);
-  return o.decision != PatchDecision::Never && !targets.empty();
+  return !off && !targets.empty();
 }
 
 }  // namespace
@@ -386,8 +373,8 @@ void denoiseCloudWithPatches(const std::vector<Eigen::Vector3d>& noisy, const st
       r.reason = "no point to denoise";
     return;
   }
-  if (o.decision == PatchDecision::Auto && !(base_risk > 0.0)) {
-    r.decision = "declined";
+  if (o.decision.mode == PatchDecision::Auto && !(base_risk > 0.0)) {
+    r.outcome = PatchOutcome::Declined;
     r.reason = "the base's error has no estimate to compare with";
     return;
   }
@@ -402,7 +389,7 @@ void denoiseCloudWithPatches(const std::vector<Eigen::Vector3d>& noisy, const st
   }
   const double d = std::min(o.denoise_scale * r.spacing, 0.2 * (high - low).maxCoeff()), epsilon = o.error_factor * noise_sigma / std::sqrt(per_bin);
   r.base_error = std::sqrt(base_risk > 0.0 ? base_risk : 0.0);
-  if (o.decision == PatchDecision::Auto) {
+  if (o.decision.mode == PatchDecision::Auto) {
     // Two-fold cross-validation: patches from the even points predict the odd ones, whose noise they
     // never saw: mean squared miss = σ² + the patches' error (on half the data: a pessimistic
     // figure, so a tie goes to the base).
@@ -415,12 +402,12 @@ void denoiseCloudWithPatches(const std::vector<Eigen::Vector3d>& noisy, const st
       odd.push_back(noisy[i]);
     estimate.insert(estimate.end(), odd.begin(), odd.end());
     CloudPatchOptions always = o;
-    always.decision = PatchDecision::Always;
+    always.decision.mode = PatchDecision::Always;
     CloudPatchReport cv = r;
     std::vector<Eigen::Vector3d> predicted = odd;
     runPatchStage({even, estimate, even.size(), d, epsilon}, always, predicted, cv);
-    if (cv.decision == "declined") {
-      r.decision = cv.decision;
+    if (cv.outcome == PatchOutcome::Declined) {
+      r.outcome = cv.outcome;
       r.reason = cv.reason;
       return;
     }
@@ -434,14 +421,14 @@ void denoiseCloudWithPatches(const std::vector<Eigen::Vector3d>& noisy, const st
     const double patch_risk = count ? squared / static_cast<double>(count) - noise_sigma * noise_sigma : 0.0;
     r.patch_error = std::sqrt(std::max(patch_risk, 0.0));
     r.seconds_check += cv.seconds_layout + cv.seconds_check + cv.seconds_patches;
-    if (count == 0 || !(patch_risk < (1.0 - o.min_risk_reduction) * base_risk)) {
-      r.decision = "declined";
+    if (count == 0 || !patchesLowerTheRisk(patch_risk, base_risk, o.decision)) {
+      r.outcome = PatchOutcome::Declined;
       r.reason = "cross-validated, the patches' error is not below the geometric base's";
       return;
     }
   }
   CloudPatchOptions always = o;
-  always.decision = PatchDecision::Always;  // measured above: the relief check does not decide here
+  always.decision.mode = PatchDecision::Always;  // measured above: the relief check does not decide here
   runPatchStage({noisy, base, 0, d, epsilon}, always, corrected, r);
 }
 

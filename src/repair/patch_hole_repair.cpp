@@ -21,7 +21,7 @@ namespace {
 using detail::Clock;
 using detail::secondsSince;
 
-/** One run of the relief check (see HoleRepairOptions::relief_probe_factors). */
+/** One run of the relief check (see PatchDecisionOptions::probe_factors). */
 struct ReliefProbe {
   double quad_length = 0.0;     ///< of the layout probed
   double best_scale = 1.0;      ///< patch side of the best significant probe, × quad_length
@@ -48,9 +48,8 @@ std::shared_ptr<const PatchLayout> subsampledLayout(const PatchLayout& layout, i
 }
 
 /** Lays quads of side `quad_length` (overlap k) on `work` into `layout`, widens the patches on its
-  * seeds to each probe side (relief_probe_factors × d, or fixed_scale × quad_length when given),
-  * and asks checkPatchPrediction whether the dictionary predicts a hidden disc better than a
-  * biharmonic fill. */
+  * seeds to each probe side (decision.probe_factors × d, or fixed_scale × quad_length when given),
+  * and asks checkRelief whether the dictionary predicts a hidden disc better than a biharmonic fill. */
 ReliefProbe probeRelief(const std::shared_ptr<const TriangleMesh>& work, const std::vector<bool>& observed,
                         const HoleRepairOptions& p, double median_diameter, double mean_edge_length,
                         double quad_length, int overlap, const std::shared_ptr<PatchLayout>& layout,
@@ -66,7 +65,7 @@ ReliefProbe probeRelief(const std::shared_ptr<const TriangleMesh>& work, const s
   if (fixed_scale > 0.0)
     scales.push_back(fixed_scale);
   else
-    for (double factor : p.relief_probe_factors)
+    for (double factor : p.decision.probe_factors)
       scales.push_back(factor * median_diameter / quad_length);
   computePatchLayout(*work, PatchCorrection::layoutParameters(probe, quad_length), *layout);
   result.seconds_layout = secondsSince(t);
@@ -81,26 +80,17 @@ ReliefProbe probeRelief(const std::shared_ptr<const TriangleMesh>& work, const s
   const std::vector<PatchSet> sets = correction.observedPatchesAtScales(scales);
   result.seconds_patches = secondsSince(t);
   t = Clock::now();
-  for (std::size_t i = 0; i < sets.size(); ++i) {
-    // The probe hides a disc of the holes' radius (the loop's diameter d overstates it by the
-    // ring of removed faces: measured 0.35 d ≈ the punched radius on the harness holes).
-    // Capped at 0.3 × the patch side: a disc hiding nearly the whole patch says nothing about
-    // the surface (large holes: the question is whether it is a relief, not how big the hole is).
-    const double side = scales[i] * quad_length;
-    const PatchPredictionCheck check = checkPatchPrediction(
-        sets[i], std::min(p.relief_probe_radius * median_diameter, 0.3 * side), p.dictionary, probe, 10);
-    // A relief is where the dictionary predicts better by a margin that matters: the gain
-    // alone would call a perfect sphere a relief (both errors near zero, their ratio large).
-    const bool significant = check.biharmonic_rms - check.dictionary_rms >= p.relief_min_improvement * mean_edge_length;
-    if (check.gain > result.best_any) {
-      result.best_any = check.gain;
-      result.best_any_scale = scales[i];
-    }
-    if (significant && check.gain > result.best_significant) {
-      result.best_significant = check.gain;
-      result.best_scale = scales[i];
-    }
-  }
+  std::vector<double> sides;
+  for (double scale : scales)
+    sides.push_back(scale * quad_length);
+  const ReliefVerdict verdict =
+      checkRelief(sets, sides, median_diameter, mean_edge_length, p.decision, p.dictionary, probe);
+  result.best_significant = verdict.best_significant;
+  result.best_any = verdict.best_any;
+  if (verdict.significant_side >= 0)
+    result.best_scale = scales[static_cast<std::size_t>(verdict.significant_side)];
+  if (verdict.any_side >= 0)
+    result.best_any_scale = scales[static_cast<std::size_t>(verdict.any_side)];
   result.seconds_prediction = secondsSince(t);
   return result;
 }
@@ -121,7 +111,7 @@ struct HoleSettingsChoice {
 
 /** Relief or smooth surface? Measured, not assumed: can the dictionary predict a hidden disc of
   * the holes' size from the intact patches better than a biharmonic fill can? `parameters` holds
-  * the smooth settings (L already at least hole_quad_factor × d when automatic). */
+  * the smooth settings (L already at least decision.quad_factor × d when automatic). */
 HoleSettingsChoice chooseHoleSettings(const std::shared_ptr<const TriangleMesh>& work,
                                       const std::vector<bool>& observed, const HoleRepairOptions& p,
                                       double median_diameter, bool automatic_quad_length,
@@ -129,7 +119,7 @@ HoleSettingsChoice chooseHoleSettings(const std::shared_ptr<const TriangleMesh>&
 {
   HoleSettingsChoice choice;
   const auto check_start = Clock::now();
-  const double relief_length = p.relief_probe_factors.front() * median_diameter;
+  const double relief_length = p.decision.probe_factors.front() * median_diameter;
   // The verdict is probed on the layout the smooth settings would use, when their L is
   // automatic: a smooth verdict (the scans) then costs one layout, not two.
   // A quad length given by the caller is kept in both settings, with its patch side
@@ -141,11 +131,11 @@ HoleSettingsChoice chooseHoleSettings(const std::shared_ptr<const TriangleMesh>&
   if (!forced_relief)
     probe = probeRelief(work, observed, p, median_diameter, r.mean_edge_length,
                         shared_layout ? parameters.quad_length : relief_length, shared_layout ? parameters.overlap : 1,
-                        probe_layout, shared_layout ? p.relief_probe_max_seeds : 0,
+                        probe_layout, shared_layout ? p.decision.probe_max_seeds : 0,
                         automatic_quad_length ? 0.0 : parameters.patch_scale);
   addProbeTimes(probe, r);
   r.relief_gain = probe.best_significant > 0.0 ? probe.best_significant : probe.best_any;
-  r.relief = forced_relief || probe.best_significant >= p.relief_gain;
+  r.relief = forced_relief || probe.best_significant >= p.decision.relief_gain;
   if (!r.relief) {
     r.seconds_check = secondsSince(check_start);
     if (shared_layout)  // exactly the layout the smooth settings would make
@@ -226,16 +216,11 @@ void checkHoleRepairOptions(const HoleRepairOptions& p)
   PatchCorrection::checkParameters(p);
   using detail::checkFinite;
   checkFinite(p.constraint_weight, p.constraint_weight >= 0.0, "the constraint weight μ must be ≥ 0");
-  checkFinite(p.hole_quad_factor, p.hole_quad_factor >= 0.0, "the hole quad factor must be ≥ 0");
+  p.decision.check();
   const char* relief = "bad relief settings";
-  checkFinite(p.relief_gain, p.relief_gain > 0.0, relief);
   checkFinite(p.relief_constraint_weight, p.relief_constraint_weight >= 0.0, relief);
-  checkFinite(p.relief_probe_radius, p.relief_probe_radius > 0.0, relief);
-  checkFinite(p.relief_min_improvement, p.relief_min_improvement >= 0.0, relief);
-  if (p.relief_overlap < 0 || p.relief_probe_factors.empty() || p.relief_probe_max_seeds < 0)
+  if (p.relief_overlap < 0)
     throw Error(relief);
-  for (double factor : p.relief_probe_factors)
-    checkFinite(factor, factor > 0.0, "relief probe factors must be > 0");
 }
 
 void fillHolesWithPatches(const TriangleMesh& input, TriangleMesh& out, const HoleRepairOptions& p,
@@ -262,17 +247,17 @@ void fillHolesWithPatches(const TriangleMesh& input, TriangleMesh& out, const Ho
   const auto work = std::make_shared<TriangleMesh>(out);  // shared with the patch stage
   normalization.apply(*work);
   r.mean_edge_length = work->meanEdgeLength();
-  if (!p.use_patches || new_vertices.empty())
+  if (p.decision.mode == PatchDecision::Never || new_vertices.empty())
     return;
   r.used_patches = true;
 
-  // L sees the rim: at least hole_quad_factor × the median diameter of the filled holes.
+  // L sees the rim: at least decision.quad_factor × the median diameter of the filled holes.
   t = Clock::now();
   const double median_diameter = medianFilledDiameter(r.holes, normalization.scale);
   PatchCorrectionParameters patch_parameters = p;
   const bool automatic_quad_length = patch_parameters.quad_length <= 0.0;
   if (automatic_quad_length && median_diameter > 0.0)
-    patch_parameters.quad_length = std::max(PatchCorrection::quadLength(*work, p), p.hole_quad_factor * median_diameter);
+    patch_parameters.quad_length = std::max(PatchCorrection::quadLength(*work, p), p.decision.quad_factor * median_diameter);
   std::vector<bool> observed(work->numFaces(), false);
   std::fill(observed.begin(), observed.begin() + static_cast<std::ptrdiff_t>(input.numFaces()), true);
   HoleSettingsChoice choice{patch_parameters, nullptr};

@@ -190,7 +190,7 @@ void fillMissingVertices(const TriangleMesh& input, const std::vector<int>& miss
   r.mean_edge_length = work->meanEdgeLength();
   r.moved_vertices = solver.numFree();
 
-  if (p.use_patches && solver.numFree() > 0) {
+  if (p.decision.mode != PatchDecision::Never && solver.numFree() > 0) {
     r.used_patches = true;
     t = Clock::now();
     const std::vector<bool> observed = knownFaces(*work, is_missing);
@@ -279,7 +279,7 @@ double steinRisk(const std::vector<Eigen::Vector3d>& f, const TriangleMesh& y, d
   * probe_step·σ, n the base's normals; the base again at the same iteration count, the patches
   * again on the same layout (and dictionary, or a self-similar one learned again). Fills the
   * report's errors; true: keep the patches. */
-bool patchesLowerTheRisk(const TriangleMesh& noisy, const TriangleMesh& base, const std::vector<Eigen::Vector3d>& moved,
+bool patchRiskIsLower(const TriangleMesh& noisy, const TriangleMesh& base, const std::vector<Eigen::Vector3d>& moved,
                          const std::shared_ptr<const PatchLayout>& layout, PatchCorrectionParameters parameters,
                          const DenoiseOptions& p, DenoiseReport& r)
 {
@@ -323,7 +323,7 @@ bool patchesLowerTheRisk(const TriangleMesh& noisy, const TriangleMesh& base, co
   const double patch_risk = steinRisk(moved, noisy, sigma, patch_divergence);
   r.base_error = std::sqrt(std::max(base_risk, 0.0));
   r.patch_error = std::sqrt(std::max(patch_risk, 0.0));
-  return patch_risk < (1.0 - p.min_risk_reduction) * base_risk;
+  return patchesLowerTheRisk(patch_risk, base_risk, p.decision);
 }
 
 }  // namespace
@@ -337,10 +337,7 @@ void checkDenoiseOptions(const DenoiseOptions& p)
   if (p.base_iterations < -1 || p.max_base_iterations < 0)
     throw Error("base iterations must be ≥ 0 (−1: by the discrepancy principle), their maximum ≥ 0");
   detail::checkFinite(p.discrepancy, p.discrepancy > 0.0, "the discrepancy factor must be > 0");
-  if (p.decision == PatchDecision::Never)
-    throw Error("denoising: no patch stage is use_patches = false, not decision Never");
-  detail::checkFinite(p.min_risk_reduction, p.min_risk_reduction >= 0.0 && p.min_risk_reduction < 1.0,
-                      "the risk reduction the patches must bring lies in [0, 1)");
+  p.decision.check();
   detail::checkFinite(p.probe_step, p.probe_step > 0.0, "the probe step must be > 0");
 }
 
@@ -372,7 +369,7 @@ void denoiseWithPatches(const TriangleMesh& input, TriangleMesh& out, const Deno
   std::vector<std::int32_t> all(n);
   std::iota(all.begin(), all.end(), 0);
   r.moved_vertices = n;
-  if (!p.use_patches)
+  if (p.decision.mode == PatchDecision::Never)
     return;
   t = Clock::now();
   PatchCorrectionParameters patch_parameters = p;
@@ -387,15 +384,15 @@ void denoiseWithPatches(const TriangleMesh& input, TriangleMesh& out, const Deno
   t = Clock::now();
   const std::vector<Eigen::Vector3d> moved = movePerVertex(*work, constraints, p.fidelity, p.num_threads);
   r.seconds_solve = secondsSince(t);
-  if (p.decision == PatchDecision::Auto) {
+  if (p.decision.mode == PatchDecision::Auto) {
     t = Clock::now();
-    const bool keep = patchesLowerTheRisk(*noisy, *work, moved, layout, patch_parameters, p, r);
+    const bool keep = patchRiskIsLower(*noisy, *work, moved, layout, patch_parameters, p, r);
     r.seconds_decision = secondsSince(t);
-    r.patch_decision = keep ? "applied" : "declined";
+    r.outcome = keep ? PatchOutcome::Applied : PatchOutcome::Declined;
     if (!keep)
       return;
   } else {
-    r.patch_decision = "applied";  // forced: no estimates (base_error stays −1)
+    r.outcome = PatchOutcome::Applied;  // forced: no estimates (base_error stays −1)
   }
   r.used_patches = true;
   double sum = 0.0;

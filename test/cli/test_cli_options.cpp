@@ -155,7 +155,7 @@ TEST(CliOptions, DefaultsAreTheLibrarys)
   checkShared("inpaint", MissingVerticesOptions());
   checkShared("fill-holes", HoleRepairOptions());
   checkShared("denoise", DenoiseOptions());
-  EXPECT_EQ(realDefault("fill-holes", "hole-factor"), HoleRepairOptions().hole_quad_factor);
+  EXPECT_EQ(realDefault("fill-holes", "hole-factor"), HoleRepairOptions().decision.quad_factor);
   const DenoiseOptions denoise;  // and the entry point's own options struct
   EXPECT_EQ(realDefault("denoise", "noise"), denoise.noise_sigma);
   EXPECT_EQ(realDefault("denoise", "error-factor"), denoise.error_factor);

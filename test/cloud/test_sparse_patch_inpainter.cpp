@@ -75,8 +75,8 @@ TEST(SparsePatchInpainter, PatchesHalveTheErrorOfAReliefsHoleFillAndSayWhy)
   const Fill patches = fill(cloud, grooves, PatchDecision::Auto);
   ASSERT_GT(base.added, 1500u);  // four discs of radius 0.03 at the input's density: ~2,000 points
   EXPECT_EQ(patches.added, base.added);
-  EXPECT_EQ(base.patches.decision, "declined");
-  EXPECT_EQ(patches.patches.decision, "applied");
+  EXPECT_EQ(base.patches.outcome, pcl::patchdict::PatchOutcome::Declined);
+  EXPECT_EQ(patches.patches.outcome, pcl::patchdict::PatchOutcome::Applied);
   EXPECT_EQ(patches.patches.holes, 4u);
   EXPECT_NEAR(patches.patches.hole_diameter, 0.06, 0.015);
   EXPECT_GT(patches.patches.gain, 1.3);  // the check's measurement, which decided
@@ -95,7 +95,7 @@ TEST(SparsePatchInpainter, ASmoothCloudKeepsTheGeometricFillPointForPoint)
   const auto cloud = holedCloud(dome);
   const Fill base = fill(cloud, dome, PatchDecision::Never);
   const Fill automatic = fill(cloud, dome, PatchDecision::Auto);
-  EXPECT_EQ(automatic.patches.decision, "declined");
+  EXPECT_EQ(automatic.patches.outcome, pcl::patchdict::PatchOutcome::Declined);
   EXPECT_FALSE(automatic.patches.reason.empty());
   // The rule that declined: gain below 1.3, or an improvement under 0.1 spacings.
   EXPECT_TRUE(automatic.patches.gain < 1.3 || automatic.patches.biharmonic_rms - automatic.patches.dictionary_rms <
@@ -120,10 +120,10 @@ TEST(SparsePatchInpainter, SameOutputWhateverTheThreadCount)
 TEST(SparsePatchInpainter, BadPatchOptionsAreOneClearError)
 {
   pcl::patchdict::CloudPatchOptions options;
-  options.quad_factor = -1.0;
+  options.decision.quad_factor = -1.0;
   EXPECT_THROW(pcl::patchdict::checkCloudPatchOptions(options), pcl::patchdict::Error);
   options = {};
-  options.probe_factors.clear();
+  options.decision.probe_factors.clear();
   EXPECT_THROW(pcl::patchdict::checkCloudPatchOptions(options), pcl::patchdict::Error);
   options = {};
   options.grid_size = 1;

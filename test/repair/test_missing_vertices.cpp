@@ -63,7 +63,7 @@ TEST(MissingVertices, BiLaplacianReproducesALinearFieldExactly)
     damaged.vertices[static_cast<std::size_t>(v)] = Eigen::Vector3d(5.0, -3.0, 9.0);  // must be ignored
 
   MissingVerticesOptions options;
-  options.use_patches = false;
+  options.decision.mode = PatchDecision::Never;
   TriangleMesh out;
   MissingVerticesReport report;
   fillMissingVertices(damaged, missing, out, options, &report);
@@ -129,10 +129,10 @@ TEST(MissingVertices, PatchesBeatTheBiLaplacianOnASinusoidalRelief)
     return i >= 2 && j >= 2 && i <= 62 && j <= 62;
   });
   // The input is the truth: the missing vertices' input positions are ignored.
-  parameters.use_patches = false;
+  parameters.decision.mode = PatchDecision::Never;
   TriangleMesh bilaplacian, patched;
   fillMissingVertices(truth, missing, bilaplacian, parameters);
-  parameters.use_patches = true;
+  parameters.decision.mode = PatchDecision::Auto;
   parameters.dictionary = dictionary;
   MissingVerticesReport report;
   fillMissingVertices(truth, missing, patched, parameters, &report);
@@ -148,7 +148,7 @@ TEST(MissingVertices, BadInputIsAnError)
 {
   const TriangleMesh mesh = makePlaneGrid(8, 8);
   MissingVerticesOptions options;
-  options.use_patches = false;
+  options.decision.mode = PatchDecision::Never;
   TriangleMesh out;
   EXPECT_THROW(fillMissingVertices(mesh, {3, static_cast<int>(mesh.numVertices())}, out, options), Error);
   EXPECT_THROW(fillMissingVertices(mesh, {-1}, out, options), Error);

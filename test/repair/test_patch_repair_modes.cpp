@@ -79,7 +79,7 @@ TEST(PatchRepairModes, HolesWithoutPatchesAreLiepaBitForBit)
   filling.process(liepa);
   HoleRepairOptions options;
   options.filling = filling;
-  options.use_patches = false;
+  options.decision.mode = PatchDecision::Never;
   TriangleMesh out;
   HoleRepairReport report;
   fillHolesWithPatches(holed, out, options, &report);
@@ -97,10 +97,10 @@ TEST(PatchRepairModes, SelfSimilarPatchesFillAReliefHoleBetterThanLiepa)
   // The defaults find that out themselves (the prediction check) and switch to the relief settings.
   const TriangleMesh holed = holedRelief(0.1);
   HoleRepairOptions options;
-  options.use_patches = false;
+  options.decision.mode = PatchDecision::Never;
   TriangleMesh liepa, patched;
   fillHolesWithPatches(holed, liepa, options);
-  options.use_patches = true;
+  options.decision.mode = PatchDecision::Auto;
   HoleRepairReport report;
   fillHolesWithPatches(holed, patched, options, &report);
   ASSERT_EQ(patched.numVertices(), liepa.numVertices());
@@ -154,7 +154,7 @@ TEST(PatchRepairModes, ASmoothSurfaceKeepsTheSmoothSettings)
   fillHolesWithPatches(sphere, out, {}, &report);
   // Both predictions are nearly exact on a sphere (measured gain 35 on errors far below 0.1 edge):
   // the gain alone would say relief; the margin rule keeps the smooth settings.
-  EXPECT_GT(report.relief_gain, HoleRepairOptions().relief_gain);
+  EXPECT_GT(report.relief_gain, HoleRepairOptions().decision.relief_gain);
   EXPECT_FALSE(report.relief) << report.relief_gain;
   double worst = 0.0;
   for (std::size_t v = sphere.numVertices(); v < out.numVertices(); ++v)
@@ -192,7 +192,7 @@ TEST(PatchRepairModes, DenoisingBaseRemovesMostOfTheNoiseAndKeepsTheMesh)
   const double sigma = 0.5 * clean.meanEdgeLength();
   const TriangleMesh noisy = noisySphere(5, sigma, 5);
   DenoiseOptions options;
-  options.use_patches = false;
+  options.decision.mode = PatchDecision::Never;
   TriangleMesh out;
   DenoiseReport report;
   denoiseWithPatches(noisy, out, options, &report);
@@ -210,14 +210,14 @@ TEST(PatchRepairModes, DenoisingWithPatchesIsDeterministicAndStaysNearTheSurface
 {
   const TriangleMesh noisy = noisySphere(4, 0.5 * makeIcosphere(4).meanEdgeLength(), 7);
   DenoiseOptions options;
-  options.decision = PatchDecision::Always;  // the patch stage itself, unmeasured
+  options.decision.mode = PatchDecision::Always;  // the patch stage itself, unmeasured
   TriangleMesh first, second;
   DenoiseReport report;
   denoiseWithPatches(noisy, first, options, &report);
   options.num_threads = 1;
   denoiseWithPatches(noisy, second, options);
   EXPECT_TRUE(report.used_patches);
-  EXPECT_EQ(report.patch_decision, "applied");
+  EXPECT_EQ(report.outcome, PatchOutcome::Applied);
   EXPECT_LT(report.base_error, 0.0);  // forced: nothing estimated
   EXPECT_GT(report.patches.constrained_vertices, noisy.numVertices() * 9 / 10);
   ASSERT_EQ(first.numVertices(), second.numVertices());
@@ -227,7 +227,7 @@ TEST(PatchRepairModes, DenoisingWithPatchesIsDeterministicAndStaysNearTheSurface
   // Against its own base (Taubin alone): a self-similar dictionary of a noisy sphere has nothing
   // clean to copy, and costs accuracy — why the CLI uses patches only when asked. Bounded, so a
   // patch stage that went astray would show.
-  options.use_patches = false;
+  options.decision.mode = PatchDecision::Never;
   TriangleMesh base;
   denoiseWithPatches(noisy, base, options);
   RecordProperty("patches_over_base", std::to_string(sphereRmse(first) / sphereRmse(base)));
@@ -250,19 +250,19 @@ TEST(PatchRepairModes, BadParametersAndInputsAreErrors)
   const std::vector<std::function<void(DenoiseOptions&)>> bad_values = {
       [](auto& p) { p.fidelity = 0.0; },          [](auto& p) { p.error_factor = -1.0; },
       [](auto& p) { p.discrepancy = std::nan(""); }, [](auto& p) { p.base_iterations = -2; },
-      [](auto& p) { p.grid_size = 1; },           [](auto& p) { p.min_risk_reduction = 1.0; },
-      [](auto& p) { p.probe_step = 0.0; },        [](auto& p) { p.decision = PatchDecision::Never; }};
+      [](auto& p) { p.grid_size = 1; },           [](auto& p) { p.decision.min_risk_reduction = 1.0; },
+      [](auto& p) { p.probe_step = 0.0; },        [](auto& p) { p.decision.min_improvement = -1.0; }};
   for (std::size_t i = 0; i < bad_values.size(); ++i) {
     DenoiseOptions options;
-    options.use_patches = false;
+    options.decision.mode = PatchDecision::Never;
     bad_values[i](options);
     EXPECT_THROW(denoiseWithPatches(sphere, out, options), Error) << "case " << i;
   }
   HoleRepairOptions holes;
-  holes.relief_probe_radius = 0.0;
+  holes.decision.probe_radius = 0.0;
   EXPECT_THROW(fillHolesWithPatches(sphere, out, holes), Error);
   DenoiseOptions good;
-  good.use_patches = false;
+  good.decision.mode = PatchDecision::Never;
   try {
     denoiseWithPatches(sphere, out, good);  // good values run
   } catch (const Error& e) {
@@ -400,9 +400,9 @@ TEST(PatchRepairModes, DenoisingKeepsThePatchesOnlyWhenTheirEstimatedErrorIsLowe
   TriangleMesh measured, always, base;
   DenoiseReport report, always_report;
   denoiseWithPatches(noisy, measured, options, &report);
-  options.decision = PatchDecision::Always;
+  options.decision.mode = PatchDecision::Always;
   denoiseWithPatches(noisy, always, options, &always_report);
-  options.use_patches = false;
+  options.decision.mode = PatchDecision::Never;
   denoiseWithPatches(noisy, base, options);
 
   const double base_error = unit.applyLength(vertexRmse(base, clean));
@@ -411,8 +411,8 @@ TEST(PatchRepairModes, DenoisingKeepsThePatchesOnlyWhenTheirEstimatedErrorIsLowe
   RecordProperty("patch_error", std::to_string(patch_error) + " estimated " + std::to_string(report.patch_error));
   EXPECT_NEAR(report.base_error / base_error, 1.0, 0.15);
   EXPECT_NEAR(report.patch_error / patch_error, 1.0, 0.15);
-  EXPECT_EQ(report.patch_decision, patch_error < base_error ? "applied" : "declined");
-  EXPECT_EQ(report.used_patches, report.patch_decision == "applied");
+  EXPECT_EQ(report.outcome, patch_error < base_error ? PatchOutcome::Applied : PatchOutcome::Declined);
+  EXPECT_EQ(report.used_patches, report.outcome == PatchOutcome::Applied);
   const TriangleMesh& chosen = report.used_patches ? always : base;
   for (std::size_t v = 0; v < clean.numVertices(); ++v)
     ASSERT_EQ(measured.vertices[v], chosen.vertices[v]) << v;

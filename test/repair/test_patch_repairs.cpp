@@ -106,7 +106,7 @@ TEST(PatchRepairs, TemporaryInputsAreKeptAliveNotDangling)
   EXPECT_GT(quads.faces.size(), 6u);
 
   HoleRepairOptions liepa_only;  // the repair's base is the same filling
-  liepa_only.use_patches = false;
+  liepa_only.decision.mode = PatchDecision::Never;
   TriangleMesh c;
   fillHolesWithPatches(holedSphere(), c, liepa_only);
   expectSameMesh(a, c);
@@ -176,7 +176,7 @@ TEST(PatchRepairs, EachRepairChecksItsOwnOptions)
   EXPECT_THROW(fillMissingVertices(mesh, {0}, out, missing), Error);
   EXPECT_THROW(fillMissingVertices(mesh, {}, out), Error);
   HoleRepairOptions holes;
-  holes.relief_probe_factors.clear();
+  holes.decision.probe_factors.clear();
   EXPECT_THROW(fillHolesWithPatches(mesh, out, holes), Error);
   DenoiseOptions denoise;
   denoise.fidelity = 0.0;

@@ -20,7 +20,7 @@ TEST(SparsePatchMeshInpainter, FillsHolesThroughMeshProcessingAsTheFunctionDoes)
   TriangleMesh as_read;  // the vertices as PCL's float cloud holds them
   fromPolygonMesh(*polygon_mesh, as_read);
   HoleRepairOptions options;
-  options.use_patches = false;  // Liepa's fill: the adapter, not the patch stage, is under test
+  options.decision.mode = PatchDecision::Never;  // Liepa's fill: the adapter, not the patch stage, is under test
   TriangleMesh direct;
   fillHolesWithPatches(as_read, direct, options);
 
@@ -48,7 +48,7 @@ TEST(SparsePatchMeshInpainter, RecoversMissingVerticesAndRefusesBadIndices)
   SparsePatchMeshInpainter inpainter;
   inpainter.setMode(SparsePatchMeshInpainter::Mode::FillMissingVertices);
   MissingVerticesOptions options;
-  options.use_patches = false;
+  options.decision.mode = PatchDecision::Never;
   inpainter.setMissingVerticesOptions(options);
   inpainter.setMissingVertices({5, 17, 40});
   inpainter.setInputMesh(polygon_mesh);

@@ -16,7 +16,16 @@ namespace pcl {
 namespace patchdict {
 
 struct CloudPatchOptions {
-  PatchDecision decision = PatchDecision::Auto;
+  CloudPatchOptions()
+  {
+    decision.quad_factor = 0.8;  // L = 0.8 d: every patch over a hole sees its rim (the mesh repair's relief setting)
+    decision.probe_max_seeds = 1500;
+  }
+  /// The measured decision (shared with the mesh repairs): the relief check for holes, with the
+  /// point spacing as its length unit, L = decision.quad_factor × d (d the median diameter of the
+  /// filled holes) and the patch side the best of decision.probe_factors × d; the cross-validated
+  /// risk for denoising.
+  PatchDecisionOptions decision;
   /// A dictionary of grid_size × grid_size atoms learned elsewhere (e.g. from clean scans of the
   /// same kind); null: a self-similar one, learned from the cloud's own fully observed patches.
   PatchDictionary::ConstPtr dictionary;
@@ -28,16 +37,7 @@ struct CloudPatchOptions {
   /// centre (random samples leave no bin of an observed patch empty).
   double bin_reach = 1.0;
   int sparsity = 0;  ///< atoms per code; 0 = N / 2 (8 at 16 × 16, as the mesh repairs)
-  /// L = quad_factor × d, d the median diameter of the filled holes: patches as wide as the holes,
-  /// so that every patch over a hole sees its rim (the mesh repair's relief setting).
-  double quad_factor = 0.8;
   int overlap = 3;  ///< k of the layout: 4k offset seeds per quad
-  /// Patch sides tried by the check, × d; the one with the best significant gain is used.
-  std::vector<double> probe_factors{0.8, 1.2, 1.6};
-  double probe_radius = 0.35;  ///< hidden disc of the check, × d (at most 0.3 × the side)
-  double relief_gain = 1.3;    ///< the check's gain needed to apply the patches…
-  double min_improvement = 0.1;  ///< …with an rms improvement of at least this × the spacing
-  std::size_t probe_max_seeds = 1500;  ///< the check uses an evenly spaced subset of at most this many seeds
   /// The coarse shape for the layout is made from at most this many points (evenly strided): it
   /// only has to be right at the scale of L, and Poisson's time grows with the points.
   std::size_t layout_points = 10000;
@@ -48,15 +48,12 @@ struct CloudPatchOptions {
   /// Denoising: a code stops once its rms misfit over the observed bins is ≤ error_factor × σ /
   /// √(points a bin averages).
   double error_factor = 1.0;
-  /// Denoising, Auto: the patches apply when their cross-validated squared error is below the
-  /// base's estimated one by at least this fraction.
-  double min_risk_reduction = 0.05;
   int num_threads = 0;
   std::uint64_t seed = 0;
 };
 
 struct CloudPatchReport {
-  std::string decision;          ///< "applied", "declined" (why in `reason`) or "not run"
+  PatchOutcome outcome = PatchOutcome::NotRun;  ///< declined: why in `reason`
   std::string reason;
   std::size_t holes = 0;         ///< connected groups of ≥ 10 new points
   double hole_diameter = 0.0;    ///< d, median over the groups (input units)
@@ -79,13 +76,13 @@ struct CloudPatchReport {
 /** \brief Moves the new points of a geometric hole fill onto the cloud's patches.
   *
   *  1. The new points are grouped into holes (linked within 3 s); d = the median group diameter.
-  *  2. A layout (coarse shape by Poisson + Laplacian smoothing → quads → frames) of L = quad_factor·d
+  *  2. A layout (coarse shape by Poisson + Laplacian smoothing → quads → frames) of L = decision.quad_factor·d
   *     over the input and new points together; seeds moved along their Z onto the points.
   *  3. Heights binned from the input points only: the new points' bins are unobserved.
-  *  4. The relief check (checkPatchPrediction): a disc hidden in the fully observed patches,
-  *     predicted by masked OMP over the dictionary and by a biharmonic fill of the grid; the patches
-  *     apply (Auto) when the dictionary's rms is below the fill's by relief_gain and by
-  *     min_improvement × s. Smooth surfaces tie, and then the geometric fill is kept as it is.
+  *  4. The relief check (checkRelief, the mesh repairs' own): a disc hidden in the fully observed
+  *     patches, predicted by masked OMP over the dictionary and by a biharmonic fill of the grid; the
+  *     patches apply (Auto) when the dictionary's rms is below the fill's by decision.relief_gain and
+  *     by decision.min_improvement × s. Smooth surfaces tie, and then the geometric fill is kept.
   *  5. Masked OMP completes every patch over a hole; each new point x0 moves by the δ minimising
   *     Σ w (n·(x0 + δ − p))² + fidelity·Σw·|δ|² over the patches whose square holds it (p the
   *     coded surface at x0's tangent coordinates, n its normal, w its confidence).

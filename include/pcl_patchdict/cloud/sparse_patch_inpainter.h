@@ -54,8 +54,8 @@ public:
   void setDictionary(const PatchDictionary::ConstPtr& dictionary) { patch_options_.dictionary = dictionary; }
   PatchDictionary::ConstPtr getDictionary() const { return patch_options_.dictionary; }
   /** Auto (default): patches where the relief check measures them ahead; Always; Never (the base). */
-  void setPatchDecision(PatchDecision decision) { patch_options_.decision = decision; }
-  PatchDecision getPatchDecision() const { return patch_options_.decision; }
+  void setPatchDecision(PatchDecision decision) { patch_options_.decision.mode = decision; }
+  PatchDecision getPatchDecision() const { return patch_options_.decision.mode; }
   void setPatchOptions(const CloudPatchOptions& options) { patch_options_ = options; }
   const CloudPatchOptions& getPatchOptions() const { return patch_options_; }
   void setNumberOfThreads(int threads)

@@ -21,14 +21,15 @@ namespace patchdict {
 struct PatchRepairCommon : PatchCorrectionParameters {
   /// Dictionary to code the patches with (null: self-similar, learned from the input).
   PatchDictionary::ConstPtr dictionary;
-  /// false: the geometric base alone (bi-Laplacian, Liepa, or Taubin), no patch stage.
-  bool use_patches = true;
+  /// Whether and how the patch stage is decided; decision.mode Never: the geometric base alone
+  /// (bi-Laplacian, Liepa, or Taubin), no patch stage.
+  PatchDecisionOptions decision;
 };
 
 /** What every repair's report holds. */
 struct PatchRepairReport {
   std::size_t moved_vertices = 0;  ///< vertices the repair may move (free, new, or all)
-  bool used_patches = false;
+  bool used_patches = false;       ///< the result holds the patch stage's correction
   double mean_edge_length = 0.0;   ///< of the base, normalised units
   PatchCorrectionReport patches;   ///< the patch stage
   double mean_correction = 0.0;    ///< mean |x − base| over the moved vertices (normalised)
@@ -67,24 +68,15 @@ enum class HoleSettings { Auto, Smooth, Relief };
 struct HoleRepairOptions : PatchRepairCommon {
   HoleRepairOptions() { fit_scale = 0.02; }
   double constraint_weight = 0.1;  ///< μ of the displacement solve (smooth settings)
-  /// L ≥ this × median diameter of the filled holes (normalised units).
-  double hole_quad_factor = 0.6;  ///< (why this value: docs/results.md)
-  /// Auto measures with checkPatchPrediction whether the dictionary predicts a hidden disc
-  /// (relief_probe_radius × the median hole diameter d, at most 0.3 × the patch side) better than
-  /// a biharmonic fill, for patch sides relief_probe_factors × d on one layout; gain ≥ relief_gain
-  /// with a margin ≥ relief_min_improvement → the relief settings at the best side (the gains
-  /// measured on smooth and relief scans: docs/results.md). Smooth keeps the options as given;
-  /// Relief forces the relief settings. A quad_length given (> 0) is kept by both, with its patch
-  /// side patch_scale × L (the paper's Fig. 8a protocol); the check then only decides relief or smooth.
+  /// L ≥ decision.quad_factor × the median diameter d of the filled holes. Auto runs the relief
+  /// check of `decision` (checkRelief; the length unit is the mean edge) on one layout: a relief
+  /// → the relief settings at the best side (the gains measured on smooth and relief scans:
+  /// docs/results.md). Smooth keeps the options as given; Relief forces the relief settings. A
+  /// quad_length given (> 0) is kept by both, with its patch side patch_scale × L (the paper's
+  /// Fig. 8a protocol); the check then only decides relief or smooth, on at most
+  /// decision.probe_max_seeds of that layout's seeds (a relief verdict is followed by a full probe
+  /// that picks the patch side).
   HoleSettings hole_settings = HoleSettings::Auto;
-  std::vector<double> relief_probe_factors{0.8, 1.2, 1.6};  ///< patch sides, × d
-  double relief_probe_radius = 0.35;  ///< hidden disc radius of the probe, × d
-  /// The verdict probe on the smooth settings' layout uses at most this many of its seeds, evenly
-  /// spaced (0: all); a relief verdict is followed by a full probe that picks the patch side.
-  int relief_probe_max_seeds = 600;
-  double relief_gain = 1.3;  ///< (why this value: docs/results.md)
-  /// …and only if the dictionary's error is below the biharmonic one by this × mean edge.
-  double relief_min_improvement = 0.1;
   /// Relief settings: μ 10, overlap 2, no fit or agreement weighting.
   double relief_constraint_weight = 10.0;
   int relief_overlap = 2;
@@ -125,11 +117,9 @@ struct DenoiseOptions : PatchRepairCommon {
   int base_iterations = -1;
   double discrepancy = 0.95;
   int max_base_iterations = 100;
-  /// Auto: the patches go into the result only if their estimated error (Stein's unbiased risk,
-  /// below) is at least min_risk_reduction below the base's; Always: applied unmeasured.
-  /// (Never is use_patches = false.)
-  PatchDecision decision = PatchDecision::Auto;
-  double min_risk_reduction = 0.05;
+  /// decision.mode Auto: the patches go into the result only if their estimated error (Stein's
+  /// unbiased risk, below) is at least decision.min_risk_reduction below the base's; Always:
+  /// applied unmeasured; Never: the Taubin base alone.
   /// The risk's divergence term by one random probe of the input along the normals, this size × σ.
   double probe_step = 0.25;
 };
@@ -138,9 +128,9 @@ struct DenoiseReport : PatchRepairReport {
   double noise_sigma = 0.0;  ///< σ used (normalised units)
   int base_iterations = 0;   ///< Taubin iterations of the base
   bool noise_estimated = false;
-  /// The patch stage's fate, in the cloud path's words: "" (not run), "applied" or "declined";
-  /// measured when base_error ≥ 0, forced (decision Always) otherwise. used_patches = "applied".
-  std::string patch_decision;
+  /// The patch stage's fate: measured when base_error ≥ 0, forced (decision Always) otherwise.
+  /// used_patches is outcome Applied.
+  PatchOutcome outcome = PatchOutcome::NotRun;
   /// Estimated RMS error against the unknown clean surface (normalised units; −1: not measured).
   double base_error = -1.0, patch_error = -1.0;
   double seconds_decision = 0.0;  ///< the perturbed second run of base and patches

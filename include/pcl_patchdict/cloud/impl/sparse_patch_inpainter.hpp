@@ -31,7 +31,6 @@ template <typename PointInT, typename PointOutT>
 void SparsePatchInpainter<PointInT, PointOutT>::performProcessing(PointCloudOut& output)
 {
   patch_report_ = denoise_report_ = CloudPatchReport();
-  patch_report_.decision = denoise_report_.decision = "not run";
   base_.setInputCloud(input_);
   base_.setIndices(indices_);
   base_.process(output);
@@ -58,7 +57,7 @@ void SparsePatchInpainter<PointInT, PointOutT>::performProcessing(PointCloudOut&
     if (noisy.size() >= 100) {
       denoiseCloudWithPatches(noisy, denoised, report.mean_spacing, report.noise_sigma, detail::baseRisk(report),
                               patch_options_, corrected, &denoise_report_);
-      if (denoise_report_.decision == "applied")
+      if (denoise_report_.outcome == PatchOutcome::Applied)
         for (std::size_t i = 0; i < corrected.size(); ++i)
           output[i].getVector3fMap() = corrected[i].template cast<float>();
     } else {
@@ -78,7 +77,7 @@ void SparsePatchInpainter<PointInT, PointOutT>::performProcessing(PointCloudOut&
   for (std::size_t i = first_added; i < output.size(); ++i)
     fill.push_back(position(i));
   correctCloudFillWithPatches(observed, fill, report.mean_spacing, patch_options_, corrected, &patch_report_);
-  if (patch_report_.decision != "applied")
+  if (patch_report_.outcome != PatchOutcome::Applied)
     return;
   for (std::size_t i = 0; i < added; ++i)
     output[first_added + i].getVector3fMap() = corrected[i].template cast<float>();
