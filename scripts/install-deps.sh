@@ -4,7 +4,8 @@
 set -euo pipefail
 
 # libopenmpi-dev + openmpi-bin: learn over MPI ranks (PCL's VTK pulls them in today; named so it stays so).
-packages=(g++ cmake make libpcl-dev libgtest-dev libbenchmark-dev zlib1g-dev libopenmpi-dev openmpi-bin)
+# doxygen: the API reference (`cmake --build build --target doc`; no Graphviz needed).
+packages=(g++ cmake make libpcl-dev libgtest-dev libbenchmark-dev zlib1g-dev libopenmpi-dev openmpi-bin doxygen)
 # --bench: also what bench/reproduce.py runs with (Python for the scripts, Draco for the comparison;
 # numpy, scipy and pcl-tools — PCL's MLS and PCD converter — for bench/real_scans.py).
 if [ "${1:-}" = "--bench" ]; then

@@ -35,7 +35,7 @@ bool heightMapHistograms(const TriangleMesh* mesh, const std::vector<Eigen::Vect
 
 /** \brief Height-map patches as a PCL feature: for every point of the input cloud (the seeds, with
   * setIndices honoured) and its local reference frame, the surface around it seen from the frame
-  * as an N×N grid of heights, one pcl::Histogram<N·N> per seed.
+  * as an N×N grid of heights, one `pcl::Histogram<N·N>` per seed.
   *
   * The shape of pcl::SHOTEstimation: setInputCloud(seeds), setSearchSurface(cloud) (default: the
   * seeds themselves), setInputReferenceFrames(frames), setRadiusSearch(r), compute(output), and
