@@ -45,6 +45,16 @@ struct ReconstructLine {
   std::uint64_t seed = 0;
 };
 
+/** The layout the line asks for (seeds as `patches` lays them). */
+PatchLayoutParameters layoutOf(const ReconstructLine& line)
+{
+  PatchLayoutParameters parameters;
+  parameters.quad_length = line.quad_length;
+  parameters.overlap = line.overlap;
+  parameters.seed = line.seed;
+  return parameters;
+}
+
 // 1. The command line.
 ReconstructLine readReconstructLine(const Arguments& args)
 {
@@ -91,13 +101,9 @@ int reconstructCloud(const Arguments& args, const ReconstructLine& line, Triangl
   const UnitCubeNormalization normalization = UnitCubeNormalization::fromMesh(reference);
   normalization.apply(reference);
   timer.start("seeds");
-  const SeedsAndFrames seeds = computeSeedsAndFrames(reference, line.quad_length, line.overlap, line.seed, line.placement);
+  const PatchLayout layout = layPatches(reference, layoutOf(line), line.placement);
   timer.start("extract");
-  HeightMapParameters parameters;
-  parameters.radius = line.quad_length / std::sqrt(2.0);
-  parameters.grid_size = line.grid_size;
-  PatchSet patches;
-  extractCloudHeightMaps(reference.vertices, seeds.seeds, seeds.frames, parameters, patches);
+  PatchSet patches = extractSurfacePatches(reference, layout, line.grid_size);
   const double patch_rmse = dictionary ? codeThroughDictionary(*dictionary, line.sparsity, patches) : 0.0;
   timer.start("reconstruct");
   TriangleMesh result;
@@ -151,9 +157,9 @@ int reconstructMesh(const Arguments& args, const ReconstructLine& line, Triangle
   normalization.apply(reference);
 
   timer.start("seeds");
-  const SeedsAndFrames seeds = computeSeedsAndFrames(reference, line.quad_length, line.overlap, line.seed, line.placement);
+  const PatchLayout layout = layPatches(reference, layoutOf(line), line.placement);
   timer.start("extract");
-  PatchSet patches = extractMeshPatches(reference, seeds, line.quad_length, line.grid_size);
+  PatchSet patches = extractSurfacePatches(reference, layout, line.grid_size);
   double patch_rmse = 0.0;
   if (dictionary) {
     timer.start("code");

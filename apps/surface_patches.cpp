@@ -2,13 +2,10 @@
 
 #include "cli.h"
 
-#include <pcl_patchdict/geometry/coarse_mesh_estimation.h>
-#include <pcl_patchdict/patches/height_maps.h>
-#include <pcl_patchdict/geometry/mesh_hygiene.h>
 #include <pcl_patchdict/core/normalization.h>
-#include <pcl_patchdict/pcl/conversions.h>
 
 #include <cmath>
+#include <cstdio>
 
 namespace pcl {
 namespace patchdict {
@@ -34,32 +31,23 @@ SurfacePatches surfacePatches(const std::string& path, const SurfacePatchOptions
   out.scale = normalization.scale;
 
   // Seeds live on a surface: the mesh itself, or for a cloud its coarse Poisson surface.
-  TriangleMesh placement;
-  if (out.is_cloud) {
-    stage("coarse_surface");
-    pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
-    toPointCloud(surface, *cloud);
-    CoarseMeshEstimation coarse;
-    coarse.setInputCloud(cloud);
-    CoarseMeshEstimation::Report coarse_report;
-    coarse.process(placement, &coarse_report);
-    out.poisson_depth = coarse_report.poisson_depth;
-    out.coarse_faces = placement.faces.size();
-    note(quiet, "  coarse surface: Poisson depth " + std::to_string(coarse_report.poisson_depth) + ", " +
-                    std::to_string(placement.faces.size()) + " faces");
-  }
   stage("seeds");
-  const SeedsAndFrames seeds = computeSeedsAndFrames(out.is_cloud ? placement : surface, options.quad_length,
-                                                     options.overlap, options.seed, options.placement);
-  stage("extract");
+  PatchLayoutParameters parameters;
+  parameters.quad_length = options.quad_length;
+  parameters.overlap = options.overlap;
+  parameters.seed = options.seed;
+  PatchPlacementReport placement;
+  const PatchLayout layout = layPatches(surface, parameters, options.placement, &placement);
   if (out.is_cloud) {
-    HeightMapParameters parameters;
-    parameters.radius = options.quad_length / std::sqrt(2.0);
-    parameters.grid_size = options.grid_size;
-    extractCloudHeightMaps(surface.vertices, seeds.seeds, seeds.frames, parameters, out.patches);
-  } else {
-    out.patches = extractMeshPatches(surface, seeds, options.quad_length, options.grid_size);
+    out.poisson_depth = placement.poisson_depth;
+    out.coarse_faces = placement.surface_faces;
+    char line[160];
+    std::snprintf(line, sizeof line, "  coarse surface: Poisson depth %d, %zu faces (%.2f s of the seeds' time)",
+                  placement.poisson_depth, placement.surface_faces, placement.seconds_surface);
+    note(quiet, line);
   }
+  stage("extract");
+  out.patches = extractSurfacePatches(surface, layout, options.grid_size);
   return out;
 }
 

@@ -35,9 +35,10 @@ struct SurfacePatches {
   double scale = 1.0;
 };
 
-/** loadMesh, cleanInputMesh, unit-cube normalisation, seeds (on a cloud's coarse Poisson surface),
-  * then exact mesh heights or binned cloud points: the `patches` command. `timer` (optional) gets
-  * the stages load, coarse_surface, seeds, extract. Throws Error (one line) for a bad surface. */
+/** loadMesh, cleanInputMesh, unit-cube normalisation, then the library's layPatches (seeds on the
+  * mesh or on a cloud's coarse Poisson surface) and extractSurfacePatches (exact mesh heights or
+  * binned cloud points): the `patches` command. `timer` (optional) gets the stages load, seeds
+  * (with a cloud's Poisson surface), extract. Throws Error (one line) for a bad surface. */
 SurfacePatches surfacePatches(const std::string& path, const SurfacePatchOptions& options, bool quiet,
                               StageTimer* timer = nullptr);
 

@@ -48,7 +48,10 @@ const TriangleMesh& bunny()
 void extract(benchmark::State& state, const TriangleMesh& mesh)
 {
   const int threads = static_cast<int>(state.range(0));
-  const SeedsAndFrames seeds = computeSeedsAndFrames(mesh, kQuadLength, 1, 1);
+  PatchLayoutParameters placement;
+  placement.quad_length = kQuadLength;
+  placement.seed = 1;
+  const PatchLayout seeds = layPatches(mesh, placement);
   HeightMapParameters parameters;
   parameters.radius = kQuadLength / std::sqrt(2.0);
   parameters.grid_size = 16;

@@ -1,23 +1,25 @@
 #include <pcl_patchdict/patches/patch_seeds.h>
 
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/patches/height_maps.h>
-#include <pcl_patchdict/quads/patch_layout.h>
 #include <pcl_patchdict/core/surface_sampling.h>
 #include <pcl_patchdict/core/vertex_normals.h>
+#include <pcl_patchdict/geometry/coarse_mesh_estimation.h>
+#include <pcl_patchdict/pcl/conversions.h>
 
+#include <chrono>
 #include <cmath>
 
 namespace pcl {
 namespace patchdict {
 
-SeedsAndFrames randomSeedsAndFrames(const TriangleMesh& mesh, std::size_t count, std::uint64_t seed)
+PatchLayout randomPatchLayout(const TriangleMesh& mesh, std::size_t count, std::uint64_t seed)
 {
   const SurfaceSamples samples = sampleSurfaceUniform(mesh, count, seed);
   const std::vector<Eigen::Vector3d> vertex_normals = computeVertexNormals(mesh);
-  SeedsAndFrames out;
+  PatchLayout out;
   out.seeds = samples.points;
   out.frames.reserve(samples.points.size());
+  out.seed_faces.assign(samples.points.size(), -1);
   for (std::size_t i = 0; i < samples.points.size(); ++i) {
     const auto face_index = static_cast<std::size_t>(samples.face_ids[i]);
     const Face& face = mesh.faces[face_index];
@@ -45,43 +47,88 @@ SeedsAndFrames randomSeedsAndFrames(const TriangleMesh& mesh, std::size_t count,
   return out;
 }
 
-SeedsAndFrames computeSeedsAndFrames(const TriangleMesh& mesh, double quad_length, int overlap, std::uint64_t seed,
-                                     SeedPlacement placement)
+namespace {
+
+/** A cloud's coarse Poisson surface (CoarseMeshEstimation's defaults), with its normals if it has them. */
+TriangleMesh poissonSurface(const TriangleMesh& cloud, PatchPlacementReport& report)
 {
-  if (!(quad_length > 0.0) || !std::isfinite(quad_length))
-    throw Error("the quad length must be a positive number");
-  if (overlap < 0 || overlap > 16)
-    throw Error("the overlap level must be in [0, 16]");
-  if (placement == SeedPlacement::Quads) {
-    PatchLayoutParameters parameters;
-    parameters.quad_length = quad_length;
-    parameters.overlap = overlap;
-    parameters.seed = seed;
-    PatchLayout layout;
-    computePatchLayout(mesh, parameters, layout);
-    SeedsAndFrames out;
-    out.seeds = std::move(layout.seeds);
-    out.frames = std::move(layout.frames);
-    return out;
+  const auto start = std::chrono::steady_clock::now();
+  CoarseMeshEstimation coarse;
+  if (cloud.hasNormals()) {
+    auto points = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+    toPointCloud(cloud, *points);
+    coarse.setInputCloud(points);
+  } else {
+    auto points = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+    toPointCloud(cloud, *points);
+    coarse.setInputCloud(points);
   }
+  TriangleMesh surface;
+  CoarseMeshEstimation::Report coarse_report;
+  coarse.process(surface, &coarse_report);
+  report.normals_given = !coarse_report.normals_estimated;
+  report.poisson_depth = coarse_report.poisson_depth;
+  report.seconds_surface = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return surface;
+}
+
+PatchLayout randomPlacement(const TriangleMesh& mesh, const PatchLayoutParameters& parameters)
+{
   const double area = mesh.surfaceArea();
   if (!(area > 0.0))
     throw Error("the surface has no area to put patches on");
-  const double per_patch_area = 12.0 * (1.0 + 4.0 * overlap) / 5.0;
-  const double count = std::ceil(per_patch_area * area / (quad_length * quad_length));
+  const double L = parameters.quad_length;
+  const double per_patch_area = 12.0 * (1.0 + 4.0 * parameters.overlap) / 5.0;
+  const double count = std::ceil(per_patch_area * area / (L * L));
   if (count > 5e7)
     throw Error("the quad length is too small for this surface (" + std::to_string(static_cast<long long>(count)) +
                 " patches)");
-  return randomSeedsAndFrames(mesh, static_cast<std::size_t>(count), seed);
+  PatchLayout layout = randomPatchLayout(mesh, static_cast<std::size_t>(count), parameters.seed);
+  layout.quad_length = L;
+  return layout;
 }
 
-PatchSet extractMeshPatches(const TriangleMesh& mesh, const SeedsAndFrames& seeds, double quad_length, int grid_size)
+}  // namespace
+
+PatchLayout layPatches(const TriangleMesh& surface, const PatchLayoutParameters& parameters, SeedPlacement placement,
+                       PatchPlacementReport* report)
 {
-  HeightMapParameters parameters;
-  parameters.radius = quad_length / std::sqrt(2.0);  // patch side √2·r = L, as in the paper
-  parameters.grid_size = grid_size;
+  PatchPlacementReport local;
+  PatchPlacementReport& r = report ? *report : local;
+  r = PatchPlacementReport();
+  if (!(parameters.quad_length > 0.0) || !std::isfinite(parameters.quad_length))
+    throw Error("the quad length must be a positive number");
+  if (parameters.overlap < 0 || parameters.overlap > 16)
+    throw Error("the overlap level must be in [0, 16]");
+  r.from_cloud = surface.faces.empty();
+  if (r.from_cloud && surface.vertices.size() < CoarseMeshEstimation::getMinimumPoints())
+    throw Error("the cloud has " + std::to_string(surface.vertices.size()) + " finite points, fewer than " +
+                std::to_string(CoarseMeshEstimation::getMinimumPoints()) + " for its coarse surface");
+  const TriangleMesh poisson = r.from_cloud ? poissonSurface(surface, r) : TriangleMesh();
+  const TriangleMesh& on = r.from_cloud ? poisson : surface;
+  r.surface_faces = on.faces.size();
+  if (placement == SeedPlacement::Random)
+    return randomPlacement(on, parameters);
+  PatchLayout layout;
+  computePatchLayout(on, parameters, layout);
+  return layout;
+}
+
+PatchSet extractSurfacePatches(const TriangleMesh& surface, const PatchLayout& layout, int grid_size,
+                               HeightMapParameters cloud)
+{
+  cloud.radius = layout.quad_length / std::sqrt(2.0);  // patch side √2·r = L, as in the paper
+  cloud.grid_size = grid_size;
   PatchSet patches;
-  extractMeshHeightMaps(mesh, seeds.seeds, seeds.frames, parameters, patches);
+  if (surface.faces.empty()) {
+    extractCloudHeightMaps(surface.vertices, layout.seeds, layout.frames, cloud, patches);
+  } else {
+    HeightMapParameters exact;
+    exact.radius = cloud.radius;
+    exact.grid_size = grid_size;
+    exact.num_threads = cloud.num_threads;
+    extractMeshHeightMaps(surface, layout.seeds, layout.frames, exact, patches);
+  }
   return patches;
 }
 

@@ -1,4 +1,4 @@
-// QuadFrameEstimation: its type-free core (the tool's `patches` placement, in the input's units)
+// QuadFrameEstimation: its type-free core (layPatches, the tool's placement, in the input's units)
 // and the explicit instantiations for PCL's common point types.
 #include <pcl_patchdict/pcl/impl/quad_frame_estimation.hpp>
 #include <pcl_patchdict/pcl/quad_frame_estimation.h>
@@ -7,6 +7,7 @@
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/geometry/coarse_mesh_estimation.h>
 #include <pcl_patchdict/geometry/mesh_hygiene.h>
+#include <pcl_patchdict/patches/patch_seeds.h>
 
 #include <pcl/conversions.h>
 
@@ -21,28 +22,6 @@ namespace detail {
 namespace {
 
 constexpr double kDefaultQuadLength = 0.03;  // in the unit cube, the tool's default
-
-/** A cloud's coarse Poisson surface (CoarseMeshEstimation's defaults: what the tool's `patches`
-  * lays its seeds on), in the unit cube like the cloud. */
-TriangleMesh poissonSurface(const TriangleMesh& cloud, QuadFrameReport& report)
-{
-  CoarseMeshEstimation coarse;
-  if (cloud.hasNormals()) {
-    auto points = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
-    toPointCloud(cloud, *points);
-    coarse.setInputCloud(points);
-  } else {
-    auto points = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-    toPointCloud(cloud, *points);
-    coarse.setInputCloud(points);
-  }
-  TriangleMesh surface;
-  CoarseMeshEstimation::Report coarse_report;
-  coarse.process(surface, &coarse_report);
-  report.normals_given = !coarse_report.normals_estimated;
-  report.poisson_depth = coarse_report.poisson_depth;
-  return surface;
-}
 
 void fillReport(const PatchLayout& layout, QuadFrameReport& report)
 {
@@ -63,7 +42,6 @@ void fillReport(const PatchLayout& layout, QuadFrameReport& report)
 void estimateQuadFrames(const TriangleMesh& input, const PatchLayoutParameters& parameters, PatchLayout& layout,
                         QuadFrameReport& report)
 {
-  using Clock = std::chrono::steady_clock;
   report = QuadFrameReport();
   layout = PatchLayout();
   if (!(parameters.quad_length >= 0.0) || !std::isfinite(parameters.quad_length))
@@ -85,13 +63,13 @@ void estimateQuadFrames(const TriangleMesh& input, const PatchLayoutParameters& 
   PatchLayoutParameters in_unit_cube = parameters;
   in_unit_cube.quad_length = parameters.quad_length > 0.0 ? unit.applyLength(parameters.quad_length)
                                                           : kDefaultQuadLength;
-  if (report.from_cloud) {
-    const auto start = Clock::now();
-    surface = poissonSurface(surface, report);
-    report.seconds_surface = std::chrono::duration<double>(Clock::now() - start).count();
-  }
-  report.surface_faces = surface.faces.size();
-  computePatchLayout(surface, in_unit_cube, layout);
+  // The tool's placement, the library's one entry point: on the mesh, or on a cloud's Poisson surface.
+  PatchPlacementReport placement;
+  layout = layPatches(surface, in_unit_cube, SeedPlacement::Quads, &placement);
+  report.normals_given = placement.normals_given;
+  report.poisson_depth = placement.poisson_depth;
+  report.seconds_surface = placement.seconds_surface;
+  report.surface_faces = placement.surface_faces;
   fillReport(layout, report);
 
   // Back to the input's coordinates: positions and lengths; frames are rotations, unchanged.

@@ -220,8 +220,10 @@ TEST(CliPatches, ReconstructOfACloudGivesPointsOnItsSurface)
     worst = std::max(worst, std::abs(p.norm() - 2.0));
   // A bin's value is the mean height of its points, placed at the bin centre: where the frame is
   // tilted against the sphere (slope s), that is off by up to s × half a bin diagonal, 0.028
-  // (input units) here; measured worst 5.4e-3, mean far smaller.
-  EXPECT_LT(worst, 1e-2);
+  // (input units) here. Measured worst 0.015 with the seeds on the cloud's Poisson surface (the
+  // placement `patches` and `learn` use; 5.4e-3 when reconstruct laid them on the smoothed coarse
+  // shape directly), mean far smaller.
+  EXPECT_LT(worst, 0.02);
   EXPECT_LT(jsonNumber(result.out, "output_to_input_mean"), 0.01);  // unit-cube units, spacing ~0.012
   // Random placement needs a surface to sample: refused for clouds.
   const auto refused = runTool("reconstruct " + q(dir.file("sphere_cloud.ply")) + " -o " + q(dir.file("r.ply")) +
