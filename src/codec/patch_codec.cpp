@@ -7,7 +7,7 @@
 #include <pcl_patchdict/patches/height_maps.h>
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/core/normalization.h>
-#include <pcl_patchdict/quads/quad_remesher.h>
+#include <pcl_patchdict/quads/patch_layout.h>
 
 #include <omp.h>
 
@@ -273,25 +273,20 @@ void checkParameters(const PatchCodecParameters& p, int grid, int atoms)
   * onto the surface when asked). */
 QuadMesh codecQuadMesh(const TriangleMesh& surface, const PatchCodecParameters& p)
 {
-  CoarseMeshEstimation coarse;
-  coarse.setIterations(p.smoothing_iterations);
-  coarse.setMethod(CoarseMeshEstimation::Method::Laplacian);
-  coarse.setInputMesh(std::make_shared<const TriangleMesh>(surface));
-  auto coarse_mesh = std::make_shared<TriangleMesh>();
-  coarse.process(*coarse_mesh);
-  QuadRemesher remesher;
-  remesher.setInputMesh(coarse_mesh);
-  remesher.setQuadLength(p.quad_length);
-  remesher.setSeed(p.seed);
-  remesher.setNumberOfThreads(p.num_threads);
-  QuadMesh quads;
-  remesher.process(quads);
-  if (quads.faces.size() < 6) {
-    std::ostringstream message;
-    message << "codec: the quad mesh has " << quads.faces.size() << " faces (fewer than 6): the quad length "
-            << p.quad_length << " is too large for this shape";
-    throw Error(message.str());
+  // The layout's coarse shape and quads (the seeds come later, from the quads as the decoder rebuilds them).
+  PatchLayoutParameters layout_parameters;
+  layout_parameters.quad_length = p.quad_length;
+  layout_parameters.smoothing_iterations = p.smoothing_iterations;
+  layout_parameters.smoothing = CoarseMeshEstimation::Method::Laplacian;
+  layout_parameters.seed = p.seed;
+  layout_parameters.num_threads = p.num_threads;
+  PatchLayout layout;
+  try {
+    computeLayoutQuads(surface, layout_parameters, layout);
+  } catch (const Error& e) {
+    throw Error(std::string("codec: ") + e.what());
   }
+  QuadMesh quads = std::move(layout.quads);
   renumberByFirstUse(quads.faces, quads.vertices);
   quads.normals.clear();
   if (p.project_quads) {

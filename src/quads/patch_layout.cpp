@@ -75,7 +75,7 @@ std::size_t addCoverageSeeds(const TriangleMesh& surface, double quad_length, Pa
 
 }  // namespace
 
-void computePatchLayout(const TriangleMesh& surface, const PatchLayoutParameters& parameters, PatchLayout& out)
+void computeLayoutQuads(const TriangleMesh& surface, const PatchLayoutParameters& parameters, PatchLayout& out)
 {
   using Clock = std::chrono::steady_clock;
   const auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
@@ -117,6 +117,11 @@ void computePatchLayout(const TriangleMesh& surface, const PatchLayoutParameters
   }
 
   out.quad_length = parameters.quad_length;
+}
+
+void computePatchLayout(const TriangleMesh& surface, const PatchLayoutParameters& parameters, PatchLayout& out)
+{
+  computeLayoutQuads(surface, parameters, out);
   reseedPatchLayout(surface, parameters.overlap, out);
 }
 

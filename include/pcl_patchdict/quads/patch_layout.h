@@ -47,6 +47,12 @@ struct PatchLayout {
   * comes out with fewer than 6 faces (L too large for the shape). */
 void computePatchLayout(const TriangleMesh& surface, const PatchLayoutParameters& parameters, PatchLayout& out);
 
+/** \brief The first two stages of computePatchLayout alone: the coarse shape and its quads (out.coarse,
+  * out.quads, their reports and times, out.quad_length; no seeds). For a caller that derives its seeds
+  * from the quads in its own way (the codec: from the quad mesh it stores, so that its decoder can).
+  * Throws Error as computePatchLayout does. */
+void computeLayoutQuads(const TriangleMesh& surface, const PatchLayoutParameters& parameters, PatchLayout& out);
+
 /** \brief The last stage of computePatchLayout again, at another overlap level: seeds, frames, their
   * move onto the surface and the coverage seeds, on the layout's own quads (the coarse shape and
   * the quad mesh — most of the cost — are kept). Throws Error for an overlap outside [0, 16]. */
