@@ -26,6 +26,14 @@ namespace {
 
 const char* kOnline = " --method online --atoms 12 --sparsity 4 --batch 32 --json";
 
+// The folder `dir`/shapes with two surfaces the patch stage must cut: relief.ply and torus.obj.
+void writeShapes(const test_support::TempDir& dir)
+{
+  std::filesystem::create_directory(dir.file("shapes"));
+  writeMesh(dir.file("shapes/relief.ply"), makeSinusoidalRelief(40, 40, 0.08, 0.3));
+  writeMesh(dir.file("shapes/torus.obj"), makeTorus(48, 24));
+}
+
 }  // namespace
 
 TEST(CliLearn, FolderGlobAndListGiveTheSameStream)
@@ -76,9 +84,7 @@ TEST(CliLearn, FolderGlobAndListGiveTheSameStream)
 TEST(CliLearn, SurfacesGoThroughThePatchStage)
 {
   test_support::TempDir dir;
-  std::filesystem::create_directory(dir.file("shapes"));
-  writeMesh(dir.file("shapes/relief.ply"), makeSinusoidalRelief(40, 40, 0.08, 0.3));
-  writeMesh(dir.file("shapes/torus.obj"), makeTorus(48, 24));
+  writeShapes(dir);
   // One surface: a local dictionary, K-SVD, at the requested grid.
   auto result = runTool("learn " + q(dir.file("shapes/relief.ply")) + " -o " + q(dir.file("local.pdd")) +
                         " --grid 8 --quad-length 0.1 --atoms 16 --iterations 3 --json");
@@ -118,9 +124,7 @@ TEST(CliLearn, SurfacesGoThroughThePatchStage)
 TEST(CliLearn, LaterPassesReadThePatchesBackAndLearnTheSameDictionary)
 {
   test_support::TempDir dir;
-  std::filesystem::create_directory(dir.file("shapes"));
-  writeMesh(dir.file("shapes/relief.ply"), makeSinusoidalRelief(40, 40, 0.08, 0.3));
-  writeMesh(dir.file("shapes/torus.obj"), makeTorus(48, 24));
+  writeShapes(dir);
   writePatchSet(dir.file("shapes/zz.pds"), 3);  // a patch set is read as it is, never cached
   // The tool's temporary folder, here (TMPDIR, which std::filesystem::temp_directory_path reads).
   std::filesystem::create_directory(dir.file("tmp"));

@@ -33,6 +33,16 @@ TriangleMesh relief()
   return mesh;
 }
 
+// The vertices of a radius-2 icosphere of `levels` written as a face-less PLY to `path` (a cloud on
+// a known sphere); returns them.
+TriangleMesh writeSphereCloud(const std::string& path, int levels)
+{
+  TriangleMesh cloud = makeIcosphere(levels, 2.0);
+  cloud.faces.clear();
+  writeMesh(path, cloud);
+  return cloud;
+}
+
 }  // namespace
 
 TEST(CliPatches, WritesALoadablePatchSetAndASheetDeterministically)
@@ -147,9 +157,7 @@ TEST(CliPatches, ReconstructThroughADictionary)
 TEST(CliPatches, PatchesOfACloudGoThroughItsPoissonSurface)
 {
   test_support::TempDir dir;
-  TriangleMesh cloud = makeIcosphere(4, 2.0);
-  cloud.faces.clear();
-  writeMesh(dir.file("cloud.ply"), cloud);
+  writeSphereCloud(dir.file("cloud.ply"), 4);
   const auto result = runTool("patches " + q(dir.file("cloud.ply")) + " -o " + q(dir.file("c.pds")) +
                               " --grid 8 --quad-length 0.1 --json");
   ASSERT_EQ(result.exit_code, 0) << result.err;
@@ -204,9 +212,7 @@ TEST(CliPatches, ReconstructOfACloudGivesPointsOnItsSurface)
   // A sphere's vertices as a face-less PLY: the output is the cloud of the observed bins, which
   // must lie on the sphere (to the binning's error) and cover it.
   test_support::TempDir dir;
-  TriangleMesh cloud = makeIcosphere(5, 2.0);
-  cloud.faces.clear();
-  writeMesh(dir.file("sphere_cloud.ply"), cloud);
+  const TriangleMesh cloud = writeSphereCloud(dir.file("sphere_cloud.ply"), 5);
   const auto result = runTool("reconstruct " + q(dir.file("sphere_cloud.ply")) + " -o " + q(dir.file("out.ply")) +
                               " --quad-length 0.08 --grid 8 --json");
   ASSERT_EQ(result.exit_code, 0) << result.err;

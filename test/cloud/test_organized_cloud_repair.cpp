@@ -44,6 +44,16 @@ pcl::PointCloud<pcl::PointXYZRGB>::Ptr kinectLikeFrame(SyntheticFrame& frame)
 
 using Inpainter = GeometricCloudInpainter<pcl::PointXYZRGB>;
 
+// Runs `inpainter` into `out` and checks that the frame went the depth-image way and kept its
+// 160 × 120 grid (call it under ASSERT_NO_FATAL_FAILURE).
+void processOnTheGrid(Inpainter& inpainter, pcl::PointCloud<pcl::PointXYZRGB>& out)
+{
+  inpainter.process(out);
+  ASSERT_TRUE(inpainter.getReport().depth_image);
+  EXPECT_EQ(out.width, 160u);
+  EXPECT_EQ(out.height, 120u);
+}
+
 TEST(OrganizedCloudRepair, CompleteFillsTheDropoutInPlaceAndLeavesTheShadowOpen)
 {
   SyntheticFrame frame(160, 120, 150.0, 79.3, 60.2);
@@ -52,11 +62,8 @@ TEST(OrganizedCloudRepair, CompleteFillsTheDropoutInPlaceAndLeavesTheShadowOpen)
   inpainter.setInputCloud(cloud);
   inpainter.setMode(Inpainter::Mode::Complete);
   pcl::PointCloud<pcl::PointXYZRGB> out;
-  inpainter.process(out);
+  ASSERT_NO_FATAL_FAILURE(processOnTheGrid(inpainter, out));
   const auto& report = inpainter.getReport();
-  ASSERT_TRUE(report.depth_image);
-  EXPECT_EQ(out.width, 160u);
-  EXPECT_EQ(out.height, 120u);
   const auto& filled = inpainter.getAddedSources();
   EXPECT_EQ(filled.size(), frame.disc(40, 60, 8).size());
   EXPECT_EQ(report.points_added, filled.size());
@@ -83,11 +90,8 @@ TEST(OrganizedCloudRepair, DenoiseKeepsEveryPointOnItsPixelsRayAndTheGrid)
   Inpainter inpainter;
   inpainter.setInputCloud(cloud);
   pcl::PointCloud<pcl::PointXYZRGB> out;
-  inpainter.process(out);
+  ASSERT_NO_FATAL_FAILURE(processOnTheGrid(inpainter, out));
   const auto& report = inpainter.getReport();
-  ASSERT_TRUE(report.depth_image);
-  EXPECT_EQ(out.width, 160u);
-  EXPECT_EQ(out.height, 120u);
   EXPECT_NEAR(report.depth_noise.exponent, 2.0, 0.5);
   double before = 0.0, after = 0.0;
   std::size_t n = 0;

@@ -29,6 +29,14 @@ inline std::string bunnyDictionaryPath() { return test_support::testDataDir() + 
   * learning and checking), checks the fixture and rewrites it with PCL_PATCHDICT_WRITE_FIXTURES=1. */
 inline PatchDictionary::Ptr bunnyDictionary() { return PatchDictionary::load(bunnyDictionaryPath(), 16); }
 
+/** A codec with bunnyDictionary(), its parameters still the defaults (the test gives them). */
+inline PatchCodec bunnyCodec()
+{
+  PatchCodec codec;
+  codec.setDictionary(bunnyDictionary());
+  return codec;
+}
+
 inline PatchCodecParameters bunnyParameters()
 {
   PatchCodecParameters parameters;

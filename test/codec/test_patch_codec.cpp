@@ -133,8 +133,7 @@ TEST(PatchCodec, FixtureDictionaryIsTheBunnysOwn)
 TEST(PatchCodec, BunnyRoundTripIsSmallAccurateAndDeterministic)
 {
   const TriangleMesh bunny = loadBunny();
-  PatchCodec codec;
-  codec.setDictionary(bunnyDictionary());
+  PatchCodec codec = bunnyCodec();
   codec.setParameters(bunnyParameters());
   PatchCodec::Report report;
   const std::string bytes = codec.encode(bunny, &report);
@@ -183,8 +182,7 @@ TEST(PatchCodec, CoveragePatchesReachThePartsTheQuadsMiss)
   // At L = 0.1 the bunny's quad mesh does not reach all of its ears: without coverage patches the
   // decoded surface misses them (the reference-to-output distance is large there).
   const TriangleMesh bunny = loadBunny();
-  PatchCodec codec;
-  codec.setDictionary(bunnyDictionary());
+  PatchCodec codec = bunnyCodec();
   PatchCodecParameters parameters = bunnyParameters();
   parameters.quad_length = 0.1;
   parameters.coverage_tolerance = 0.0;
@@ -247,8 +245,7 @@ TEST(PatchCodec, AnErrorTargetSpendsFewerCoefficientsForLittleError)
   // A patch stops taking atoms once its observed bins are coded to target_error × L: fewer
   // non-zeros and bytes, at a PSNR near the full codes'.
   const TriangleMesh bunny = loadBunny();
-  PatchCodec codec;
-  codec.setDictionary(bunnyDictionary());
+  PatchCodec codec = bunnyCodec();
   PatchCodecParameters parameters = bunnyParameters();
   codec.setParameters(parameters);
   PatchCodec::Report full_report, targeted_report;
@@ -278,8 +275,7 @@ TEST(PatchCodec, OnePricePerAtomBeatsAPerPatchErrorTarget)
   // the per-patch error target at no more non-zeros, the patches' own error is lower. Quad patches
   // first (coverage off), then the coverage pieces.
   const TriangleMesh bunny = loadBunny();
-  PatchCodec codec;
-  codec.setDictionary(bunnyDictionary());
+  PatchCodec codec = bunnyCodec();
   PatchCodecParameters parameters = bunnyParameters();
   parameters.coverage_tolerance = 0.0;
   const auto encodeWith = [&](double target_error, double atom_cost, std::string* bytes = nullptr) {

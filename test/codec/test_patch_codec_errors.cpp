@@ -145,8 +145,7 @@ TEST(PatchCodec, RejectsCraftedCoverageSections)
 TEST(PatchCodec, KeptConnectivityIsTheInputsAndCostsBytes)
 {
   const TriangleMesh bunny = loadBunny();
-  PatchCodec codec;
-  codec.setDictionary(bunnyDictionary());
+  PatchCodec codec = bunnyCodec();
   PatchCodecParameters parameters = bunnyParameters();
   parameters.coverage_tolerance = 0.0;  // kept connectivity has none: compare like with like
   codec.setParameters(parameters);

@@ -46,6 +46,17 @@ Synthetic makeSynthetic(int count, std::uint64_t seed, double snr_db = 20.0)
   return data;
 }
 
+// K-SVD settings of an experiment: `atoms` atoms, `sparsity` of them per signal, `iterations`
+// sweeps; the seed stays the default unless a test sets it.
+KSVDParameters ksvdParameters(int atoms, int sparsity, int iterations)
+{
+  KSVDParameters parameters;
+  parameters.num_atoms = atoms;
+  parameters.sparsity = sparsity;
+  parameters.iterations = iterations;
+  return parameters;
+}
+
 // Fraction of true atoms matched by a learned atom with |cos| > 0.99.
 double recoveredFraction(const Eigen::MatrixXd& truth, const Eigen::MatrixXd& learned)
 {
@@ -61,10 +72,7 @@ double recoveredFraction(const Eigen::MatrixXd& truth, const Eigen::MatrixXd& le
 TEST(DictionaryLearning, KSVDRecoversTheGeneratingAtoms)
 {
   const Synthetic data = makeSynthetic(4000, 17);
-  KSVDParameters parameters;
-  parameters.num_atoms = 100;
-  parameters.sparsity = 5;
-  parameters.iterations = 50;
+  KSVDParameters parameters = ksvdParameters(100, 5, 50);
   parameters.seed = 2;
   LearningReport report;
   const Eigen::MatrixXd learned = learnKSVD(data.noisy, ObservationMask(), parameters, &report);
@@ -78,10 +86,7 @@ TEST(DictionaryLearning, KSVDRecoversTheGeneratingAtoms)
 TEST(DictionaryLearning, KSVDIsDeterministicForASeed)
 {
   const Synthetic data = makeSynthetic(600, 4);
-  KSVDParameters parameters;
-  parameters.num_atoms = 40;
-  parameters.sparsity = 4;
-  parameters.iterations = 5;
+  KSVDParameters parameters = ksvdParameters(40, 4, 5);
   const Eigen::MatrixXd a = learnKSVD(data.noisy, ObservationMask(), parameters);
   const Eigen::MatrixXd b = learnKSVD(data.noisy, ObservationMask(), parameters);
   EXPECT_EQ(a, b);
@@ -102,11 +107,7 @@ TEST(DictionaryLearning, MaskedKSVDLearnsFromDamagedSignals)
   for (Eigen::Index i = 0; i < damaged.size(); ++i)
     if (!mask.data()[i])
       damaged.data()[i] = 1e3;  // garbage where unobserved: it must not leak into the atoms
-  KSVDParameters parameters;
-  parameters.num_atoms = 100;
-  parameters.sparsity = 5;
-  parameters.iterations = 30;
-  const Eigen::MatrixXd learned = learnKSVD(damaged, mask, parameters);
+  const Eigen::MatrixXd learned = learnKSVD(damaged, mask, ksvdParameters(100, 5, 30));
   EXPECT_GE(recoveredFraction(data.dictionary, learned), 0.8);
 }
 

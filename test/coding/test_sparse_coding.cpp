@@ -24,6 +24,16 @@ Eigen::MatrixXd randomDictionary(int rows, int atoms, std::mt19937_64& rng)
   return dictionary;
 }
 
+// rows × cols standard normal entries drawn from `rng` (column-major order): dense random signals.
+Eigen::MatrixXd gaussianSignals(Eigen::Index rows, Eigen::Index cols, std::mt19937_64& rng)
+{
+  std::normal_distribution<double> gaussian;
+  Eigen::MatrixXd signals(rows, cols);
+  for (Eigen::Index i = 0; i < signals.size(); ++i)
+    signals.data()[i] = gaussian(rng);
+  return signals;
+}
+
 // Signals with exactly `sparsity` non-zeros each; the supports are returned.
 Eigen::MatrixXd sparseSignals(const Eigen::MatrixXd& dictionary, int count, int sparsity, std::mt19937_64& rng,
                               std::vector<std::set<int>>& supports)
@@ -102,10 +112,7 @@ TEST(SparseCoding, ErrorTargetStopsEarly)
   std::mt19937_64 rng(5);
   const Eigen::MatrixXd dictionary = randomDictionary(128, 60, rng);
   const Eigen::MatrixXd gram = dictionary.transpose() * dictionary;
-  std::normal_distribution<double> gaussian;
-  Eigen::MatrixXd signals(128, 200);
-  for (Eigen::Index i = 0; i < signals.size(); ++i)
-    signals.data()[i] = gaussian(rng);
+  const Eigen::MatrixXd signals = gaussianSignals(128, 200, rng);
   const double target = 0.75 * 128;  // a quarter of the expected energy removed: ~32 of the 60 atoms
   const SparseCodes codes = batchOMP(dictionary, gram, signals, {60, target});
   const Eigen::MatrixXd residual = signals - dictionary * codes;
@@ -206,10 +213,7 @@ TEST(SparseCoding, FullMaskEqualsPlainOMP)
   std::mt19937_64 rng(9);
   const Eigen::MatrixXd dictionary = randomDictionary(32, 20, rng);
   const Eigen::MatrixXd gram = dictionary.transpose() * dictionary;
-  std::normal_distribution<double> gaussian;
-  Eigen::MatrixXd signals(32, 10);
-  for (Eigen::Index i = 0; i < signals.size(); ++i)
-    signals.data()[i] = gaussian(rng);
+  const Eigen::MatrixXd signals = gaussianSignals(32, 10, rng);
   const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> mask =
       Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>::Constant(32, 10, true);
   const Eigen::MatrixXd a = batchOMP(dictionary, gram, signals, {4, 0.0});

@@ -135,6 +135,26 @@ double meanEdgeOfFaces(const TriangleMesh& mesh, const std::vector<std::int32_t>
   return sum / (3.0 * static_cast<double>(faces.size()));
 }
 
+// Runs `filler` on a copy of `mesh` into `out`; the report of the run.
+HoleFilling::Report fillHoles(HoleFilling& filler, const TriangleMesh& mesh, TriangleMesh& out)
+{
+  filler.setInputMesh(std::make_shared<const TriangleMesh>(mesh));
+  HoleFilling::Report report;
+  filler.process(out, &report);
+  return report;
+}
+
+// Checks a filled mesh: `rims` boundary loops left open, manifold, consistently oriented.
+void expectClosedButForRims(const TriangleMesh& mesh, std::size_t rims)
+{
+  const MeshHygieneReport hygiene = inspectMesh(mesh);
+  EXPECT_EQ(hygiene.boundary_loops, rims);
+  EXPECT_EQ(hygiene.nonmanifold_edges, 0u);
+  EXPECT_EQ(hygiene.nonmanifold_vertices, 0u);
+  TriangleMesh copy = mesh;
+  EXPECT_EQ(orientFacesConsistently(copy), 0u);
+}
+
 }  // namespace
 
 using test_support::endsWithOneErrorLine;
@@ -280,10 +300,8 @@ TEST(HoleFilling, PlanarHoleIsFilledFlatAtTheMeshDensity)
   const Eigen::Vector3d normal = rotation * Eigen::Vector3d::UnitZ();
   const double offset = normal.dot(holed.vertices.front());
   HoleFilling filler;
-  filler.setInputMesh(std::make_shared<const TriangleMesh>(holed));
   TriangleMesh out;
-  HoleFilling::Report report;
-  filler.process(out, &report);
+  HoleFilling::Report report = fillHoles(filler, holed, out);
   ASSERT_EQ(report.holes_found, 2u);
   EXPECT_EQ(report.holes_filled, 1u);
   EXPECT_EQ(report.holes_skipped, 1u);
@@ -310,12 +328,7 @@ TEST(HoleFilling, PlanarHoleIsFilledFlatAtTheMeshDensity)
   const double grid_edge = holed.meanEdgeLength();
   EXPECT_NEAR(meanEdgeOfFaces(out, hole.new_faces) / grid_edge, 1.0, 0.25);
   // Closed but for the rim, manifold, consistently oriented.
-  const MeshHygieneReport hygiene = inspectMesh(out);
-  EXPECT_EQ(hygiene.boundary_loops, 1u);
-  EXPECT_EQ(hygiene.nonmanifold_edges, 0u);
-  EXPECT_EQ(hygiene.nonmanifold_vertices, 0u);
-  TriangleMesh copy = out;
-  EXPECT_EQ(orientFacesConsistently(copy), 0u);
+  expectClosedButForRims(out, 1);
 }
 
 TEST(HoleFilling, FairedFillFollowsTheSphereMuchBetterThanAFlatFill)
@@ -324,10 +337,9 @@ TEST(HoleFilling, FairedFillFollowsTheSphereMuchBetterThanAFlatFill)
                                              Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, -1, 0)};
   const TriangleMesh holed = sphereWithHoles(4, 0.45, centres);
   HoleFilling filler;
-  filler.setInputMesh(std::make_shared<const TriangleMesh>(holed));
   TriangleMesh faired, flat;
-  HoleFilling::Report faired_report, flat_report;
-  filler.process(faired, &faired_report);
+  const HoleFilling::Report faired_report = fillHoles(filler, holed, faired);
+  HoleFilling::Report flat_report;
   filler.setFair(false);
   filler.process(flat, &flat_report);
   ASSERT_EQ(faired_report.holes_found, 3u);
@@ -349,22 +361,15 @@ TEST(HoleFilling, FairedFillFollowsTheSphereMuchBetterThanAFlatFill)
   EXPECT_LT(flat_max, 0.11);
   EXPECT_GT(flat_error, 0.02);
   EXPECT_LT(faired_error, 0.1 * flat_error) << "faired " << faired_error << " flat " << flat_error;
-  const MeshHygieneReport hygiene = inspectMesh(faired);
-  EXPECT_EQ(hygiene.boundary_loops, 0u);
-  EXPECT_EQ(hygiene.nonmanifold_edges, 0u);
-  EXPECT_EQ(hygiene.nonmanifold_vertices, 0u);
-  TriangleMesh copy = faired;
-  EXPECT_EQ(orientFacesConsistently(copy), 0u);
+  expectClosedButForRims(faired, 0);
 }
 
 TEST(HoleFilling, InputVerticesAndFacesStayBitIdenticalAndFirst)
 {
   const TriangleMesh holed = sphereWithHoles(3, 0.5, {Eigen::Vector3d(0.6, 0.0, 0.8)});
   HoleFilling filler;
-  filler.setInputMesh(std::make_shared<const TriangleMesh>(holed));
   TriangleMesh out, again;
-  HoleFilling::Report report;
-  filler.process(out, &report);
+  const HoleFilling::Report report = fillHoles(filler, holed, out);
   filler.process(again);
   ASSERT_GT(out.vertices.size(), holed.vertices.size());
   ASSERT_EQ(report.new_vertices, out.vertices.size() - holed.vertices.size());
@@ -391,10 +396,8 @@ TEST(HoleFilling, TheRimOfAnOpenDiscIsNotAHole)
 {
   const TriangleMesh disc = makePlaneGrid(10, 10);
   HoleFilling filler;
-  filler.setInputMesh(std::make_shared<const TriangleMesh>(disc));
   TriangleMesh out;
-  HoleFilling::Report report;
-  filler.process(out, &report);
+  HoleFilling::Report report = fillHoles(filler, disc, out);
   ASSERT_EQ(report.holes_found, 1u);
   EXPECT_EQ(report.holes_filled, 0u);
   EXPECT_EQ(report.holes[0].skipped, HoleFilling::SkipReason::OuterBoundary);
@@ -419,10 +422,9 @@ TEST(HoleFilling, LoopThroughANonManifoldVertexIsSkippedAndReported)
     return !inSquare(f, 0.25, 0.25) && !inSquare(f, 0.375, 0.375) && !inSquare(f, 0.625, 0.625);
   });
   HoleFilling filler;
-  filler.setInputMesh(std::make_shared<const TriangleMesh>(holed));
   TriangleMesh out;
   HoleFilling::Report report;
-  ASSERT_NO_THROW(filler.process(out, &report));
+  ASSERT_NO_THROW(report = fillHoles(filler, holed, out));
   std::size_t nonmanifold = 0, filled = 0;
   for (const auto& hole : report.holes) {
     nonmanifold += hole.skipped == HoleFilling::SkipReason::NonManifoldVertex;
@@ -448,10 +450,8 @@ TEST(HoleFilling, LimitsOnEdgesAndDiameterAreRespected)
     });
   }();
   HoleFilling filler;
-  filler.setInputMesh(std::make_shared<const TriangleMesh>(holed));
   TriangleMesh out;
-  HoleFilling::Report report;
-  filler.process(out, &report);
+  HoleFilling::Report report = fillHoles(filler, holed, out);
   ASSERT_EQ(report.holes_found, 2u);
   ASSERT_EQ(report.holes_filled, 2u);
   const HoleFilling::Hole large = report.holes[0], small = report.holes[1];  // longest first
@@ -518,12 +518,7 @@ TEST(HoleFilling, FiveHundredEdgeHoleIsClosed)
   const double expected = M_PI / (std::sqrt(3.0) / 2.0 * std::pow(2 * M_PI / segments, 2));
   EXPECT_GT(static_cast<double>(report.new_vertices), 0.6 * expected);
   EXPECT_LT(static_cast<double>(report.new_vertices), 1.5 * expected);
-  const MeshHygieneReport hygiene = inspectMesh(out);
-  EXPECT_EQ(hygiene.boundary_loops, 1u);
-  EXPECT_EQ(hygiene.nonmanifold_edges, 0u);
-  EXPECT_EQ(hygiene.nonmanifold_vertices, 0u);
-  TriangleMesh copy = out;
-  EXPECT_EQ(orientFacesConsistently(copy), 0u);
+  expectClosedButForRims(out, 1);
 }
 
 // ---------------------------------------------------------------- command line

@@ -34,6 +34,18 @@ PatchSet extractRandom(const TriangleMesh& mesh, std::size_t count, double side,
   return patches;
 }
 
+// Gives `reconstruction` copies of `patches` and its target `mesh`, and runs it into `out`; the
+// report of the run.
+PatchMeshReconstruction::Report reconstruct(PatchMeshReconstruction& reconstruction, const PatchSet& patches,
+                                            const TriangleMesh& mesh, TriangleMesh& out)
+{
+  reconstruction.setPatches(std::make_shared<const PatchSet>(patches));
+  reconstruction.setTargetMesh(std::make_shared<const TriangleMesh>(mesh));
+  PatchMeshReconstruction::Report report;
+  reconstruction.compute(out, &report);
+  return report;
+}
+
 }  // namespace
 
 TEST(PatchMeshReconstruction, PlaneRoundTripIsExactWithBilinearHeights)
@@ -41,11 +53,8 @@ TEST(PatchMeshReconstruction, PlaneRoundTripIsExactWithBilinearHeights)
   TriangleMesh plane = makePlaneGrid(40, 40);
   const PatchSet patches = extractRandom(plane, 2000, 0.1, 16, 3);
   PatchMeshReconstruction reconstruction;
-  reconstruction.setPatches(std::make_shared<const PatchSet>(patches));
-  reconstruction.setTargetMesh(std::make_shared<const TriangleMesh>(plane));
   TriangleMesh out;
-  PatchMeshReconstruction::Report report;
-  reconstruction.compute(out, &report);
+  const PatchMeshReconstruction::Report report = reconstruct(reconstruction, patches, plane, out);
   EXPECT_EQ(report.vertices_covered + report.vertices_from_ring + report.vertices_unchanged, plane.vertices.size());
   EXPECT_GT(report.vertices_covered, plane.vertices.size() * 9 / 10);
   // Every vertex a patch covers comes back exactly (uncovered ones, at the border, take their ring).
@@ -85,11 +94,8 @@ TEST(PatchMeshReconstruction, UncoveredVerticesTakeTheirRing)
     left.observed.col(static_cast<Eigen::Index>(i)) = patches.observed.col(keep[i]);
   }
   PatchMeshReconstruction reconstruction;
-  reconstruction.setPatches(std::make_shared<const PatchSet>(left));
-  reconstruction.setTargetMesh(std::make_shared<const TriangleMesh>(plane));
   TriangleMesh out;
-  PatchMeshReconstruction::Report report;
-  reconstruction.compute(out, &report);
+  const PatchMeshReconstruction::Report report = reconstruct(reconstruction, left, plane, out);
   EXPECT_GT(report.vertices_from_ring, 0u);
   EXPECT_EQ(report.vertices_unchanged, 0u);
   for (const auto& v : out.vertices)  // still on the plane: every ring mean of plane points is

@@ -94,6 +94,23 @@ std::string errorOf(const std::function<void()>& run)
   return "(no error)";
 }
 
+/** What HeightMapPatchExtractor gives for `seeds` on the surface `cloud` at `radius`, in `frames`
+  * (none: SHOT's). */
+pcl::PointCloud<Histogram> extractHeights(const pcl::PointCloud<pcl::PointXYZ>::Ptr& seeds,
+                                          const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud, double radius,
+                                          const Frames::Ptr& frames = nullptr)
+{
+  HeightMapPatchExtractor<pcl::PointXYZ> extractor;
+  extractor.setInputCloud(seeds);
+  extractor.setSearchSurface(cloud);
+  if (frames)
+    extractor.setInputReferenceFrames(frames);
+  extractor.setRadiusSearch(radius);
+  pcl::PointCloud<Histogram> histograms;
+  extractor.compute(histograms);
+  return histograms;
+}
+
 double binCentre(int index, int grid, double radius)
 {
   const double side = std::sqrt(2.0) * radius;
@@ -166,12 +183,7 @@ TEST(HeightMapFeature, APlanarCloudWithShotFramesGivesHeightsWithinTheNoise)
     cloud->push_back(pointAt<pcl::PointXYZ>({uniform(random), uniform(random), 0.3 + noise(random)}));
   for (int i = 0; i < 25; ++i)
     seeds->push_back(pointAt<pcl::PointXYZ>({0.2 + 0.6 * uniform(random), 0.2 + 0.6 * uniform(random), 0.3}));
-  HeightMapPatchExtractor<pcl::PointXYZ> extractor;
-  extractor.setInputCloud(seeds);
-  extractor.setSearchSurface(cloud);
-  extractor.setRadiusSearch(0.1);
-  pcl::PointCloud<Histogram> histograms;
-  extractor.compute(histograms);
+  const pcl::PointCloud<Histogram> histograms = extractHeights(seeds, cloud, 0.1);
   ASSERT_EQ(histograms.size(), 25u);
   double sum_squares = 0.0, largest = 0.0;
   std::size_t count = 0;
@@ -206,13 +218,7 @@ TEST(HeightMapFeature, TiltedPlaneFixesTheBinOrderAndTheFrameConvention)
   turned << 0, 1, 0, -1, 0, 0, 0, 0, 1;
   for (const bool turn : {false, true}) {
     Frames::Ptr frames(new Frames(toReferenceFrames({turn ? turned : Eigen::Matrix3d::Identity()})));
-    HeightMapPatchExtractor<pcl::PointXYZ> extractor;
-    extractor.setInputCloud(seed);
-    extractor.setSearchSurface(cloud);
-    extractor.setInputReferenceFrames(frames);
-    extractor.setRadiusSearch(radius);
-    pcl::PointCloud<Histogram> histograms;
-    extractor.compute(histograms);
+    const pcl::PointCloud<Histogram> histograms = extractHeights(seed, cloud, radius, frames);
     ASSERT_EQ(histograms.size(), 1u);
     std::size_t finite = 0;
     for (int j = 0; j < grid; ++j)
@@ -272,13 +278,7 @@ TEST(HeightMapFeature, ASeedWithoutAFrameGetsAnAllNaNHistogram)
   for (float& entry : (*frames)[7].rf)
     entry = std::numeric_limits<float>::quiet_NaN();
   (*seeds)[9].x = std::numeric_limits<float>::quiet_NaN();  // and one seed that is not a point
-  HeightMapPatchExtractor<pcl::PointXYZ> extractor;
-  extractor.setInputCloud(seeds);
-  extractor.setSearchSurface(cloud);
-  extractor.setInputReferenceFrames(frames);
-  extractor.setRadiusSearch(0.1);
-  pcl::PointCloud<Histogram> histograms;
-  extractor.compute(histograms);
+  const pcl::PointCloud<Histogram> histograms = extractHeights(seeds, cloud, 0.1, frames);
   ASSERT_EQ(histograms.size(), 60u);
   EXPECT_FALSE(histograms.is_dense);
   for (const std::size_t p : {7u, 9u})

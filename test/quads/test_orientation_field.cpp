@@ -46,6 +46,20 @@ void expectUnitTangents(const std::vector<Eigen::Vector3d>& field, const std::ve
   }
 }
 
+// A mesh's field hierarchy and its orientation field with the default parameters, the field
+// checked to be unit tangents to the finest level's normals.
+struct DefaultField {
+  explicit DefaultField(const TriangleMesh& mesh)
+    : hierarchy(buildFieldHierarchy(mesh)), field(computeOrientationField(hierarchy))
+  {
+    expectUnitTangents(field, normals());
+  }
+  const std::vector<Eigen::Vector3d>& normals() const { return hierarchy.levels.front().normals; }
+
+  FieldHierarchy hierarchy;
+  std::vector<Eigen::Vector3d> field;
+};
+
 }  // namespace
 
 TEST(OrientationFieldCompat, QuarterTurnAboutSharedNormalIsPerfectMatch)
@@ -182,10 +196,9 @@ TEST(OrientationFieldHierarchy, TwoComponentsAndAnIsolatedVertexStopWithoutColla
 TEST(OrientationField, PlaneGridFieldIsConstantUpToQuarterTurns)
 {
   const TriangleMesh mesh = makePlaneGrid(30, 30);
-  const FieldHierarchy hierarchy = buildFieldHierarchy(mesh);
-  const auto& normals = hierarchy.levels.front().normals;
-  const std::vector<Eigen::Vector3d> field = computeOrientationField(hierarchy);
-  expectUnitTangents(field, normals);
+  const DefaultField computed(mesh);
+  const auto& normals = computed.normals();
+  const auto& field = computed.field;
   // Angle of each tangent mod 90°, compared with vertex 0's on the circle of 4θ.
   const double reference = 4.0 * std::atan2(field[0].y(), field[0].x());
   double worst = 0.0;
@@ -230,10 +243,9 @@ TEST(OrientationField, IcosphereSingularitiesSumToEulerCharacteristic)
 TEST(OrientationField, TorusSingularitiesCancelAndEnergyDrops)
 {
   const TriangleMesh mesh = makeTorus(60, 20);
-  const FieldHierarchy hierarchy = buildFieldHierarchy(mesh);
-  const auto& normals = hierarchy.levels.front().normals;
-  const std::vector<Eigen::Vector3d> field = computeOrientationField(hierarchy);
-  expectUnitTangents(field, normals);
+  const DefaultField computed(mesh);
+  const auto& normals = computed.normals();
+  const auto& field = computed.field;
   const int count = countOrientationSingularities(mesh, normals, field);
   int doubles = 0;
   const int quarter_sum =
