@@ -155,6 +155,21 @@ double probeRelief(const PatchCorrection& correction, const CloudPatchOptions& o
   return verdict.relief(o.decision) ? scales[static_cast<std::size_t>(verdict.significant_side)] : 0.0;
 }
 
+/** Every k-th seed of the layout, k = ⌈seeds / max_seeds⌉ (0: all): the relief check needs tens of
+  * test patches, not all. */
+std::shared_ptr<PatchLayout> probeLayout(const PatchLayout& layout, int max_seeds)
+{
+  auto probe = std::make_shared<PatchLayout>();
+  probe->quad_length = layout.quad_length;
+  const std::size_t n = layout.seeds.size(), most = max_seeds > 0 ? std::size_t(max_seeds) : std::max<std::size_t>(1, n);
+  const std::size_t stride = std::max<std::size_t>(1, (n + most - 1) / most);
+  for (std::size_t i = 0; i < n; i += stride) {
+    probe->seeds.push_back(layout.seeds[i]);
+    probe->frames.push_back(layout.frames[i]);
+  }
+  return probe;
+}
+
 /** x0 + δ, δ minimising Σ w (n·(x0 + δ − p))² + fidelity·Σw·|δ|². */
 Eigen::Vector3d solveMove(const Eigen::Vector3d& x0, const std::vector<PointToPlaneConstraint>& list, double fidelity)
 {
@@ -269,15 +284,7 @@ void runPatchStage(const StageInput& in, const CloudPatchOptions& o, std::vector
 
   // The check runs on an evenly spaced subset of the seeds (it needs tens of test patches, not all).
   t = Clock::now();
-  auto probe_layout = std::make_shared<PatchLayout>();
-  probe_layout->quad_length = layout->quad_length;
-  const std::size_t max_seeds = o.decision.probe_max_seeds > 0 ? std::size_t(o.decision.probe_max_seeds) : layout->seeds.size();
-  const std::size_t probe_stride = std::max<std::size_t>(1, (layout->seeds.size() + max_seeds - 1) / std::max<std::size_t>(1, max_seeds));
-  for (std::size_t i = 0; i < layout->seeds.size(); i += probe_stride) {
-    probe_layout->seeds.push_back(layout->seeds[i]);
-    probe_layout->frames.push_back(layout->frames[i]);
-  }
-  correction.setLayout(probe_layout);
+  correction.setLayout(probeLayout(*layout, o.decision.probe_max_seeds));
   double scale = probeRelief(correction, o, d, p.quad_length, s, p, r);
   correction.setLayout(layout);
   r.seconds_check = secondsSince(t);

@@ -8,6 +8,7 @@
 #include <Eigen/Sparse>
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <limits>
 
@@ -121,6 +122,83 @@ double tukey(double r)
   return t * t;
 }
 
+/// The plane of a region's ring in 1/ρ (w: n/d in the basis), fitted three times, the last two with
+/// Tukey weights of the range misfit; false when it fails or faces away.
+bool fitRingPlane(const RangeImage& image, const RangeNoiseModel& noise, const std::vector<std::size_t>& ring,
+                  std::size_t rim_size, const detail::RayBasis& basis, const std::function<double(double)>& tau,
+                  Eigen::Vector3d& w)
+{
+  double reference = 0.0;
+  for (std::size_t q = 0; q < rim_size; ++q)
+    reference += image.range[ring[q]] / double(rim_size);
+  w = Eigen::Vector3d::Zero();
+  for (int pass = 0; pass < 3; ++pass) {
+    detail::InverseRangePlane plane;
+    for (const std::size_t j : ring) {
+      const double r = image.range[j], s = noise.sigma(r) > 0.0 ? noise.sigma(r) : 0.01 * r;
+      const Eigen::Vector3d x = basis.coordinates(image.direction(j));
+      double weight = (r / reference) * (r / reference) * (r / reference) * (r / reference) / (s * s);
+      if (pass > 0)
+        weight *= tukey((r - 1.0 / w.dot(x)) / (2.0 * tau(r)));
+      if (weight > 0.0)
+        plane.add(x, 1.0 / r, weight);
+    }
+    if (!(plane.solve(w) && w(0) > 0.0))
+      return false;
+  }
+  return true;
+}
+
+/// Whether the rim's points span more than `max_diameter` (twice the farthest from their mean).
+bool rimWiderThan(const RangeImage& image, const std::vector<std::size_t>& ring, std::size_t rim_size,
+                  double max_diameter)
+{
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> rim_points;
+  for (std::size_t q = 0; q < rim_size; ++q) {
+    const std::size_t j = ring[q];
+    rim_points.push_back(image.pointAt(j, image.range[j]));
+    mean += rim_points.back() / double(rim_size);
+  }
+  double widest = 0.0;
+  for (const auto& x : rim_points)
+    widest = std::max(widest, 2.0 * (x - mean).norm());
+  return widest > max_diameter;
+}
+
+/// The rim's misfit, harmonic inside the region (Dirichlet at the rim): L m = Σ rim neighbours'
+/// misfits. `mark` numbers the region's pixels −2 − q while it runs (restored by the caller).
+Eigen::VectorXd harmonicMisfit(const Grid& grid, const Region& region, const std::vector<std::size_t>& ring,
+                               const std::vector<double>& misfit, std::vector<int>& mark, std::vector<double>& rim_misfit)
+{
+  const std::size_t m = region.pixels.size();
+  for (std::size_t q = 0; q < m; ++q)
+    mark[region.pixels[q]] = -2 - static_cast<int>(q);  // the region's own numbering
+  for (std::size_t q = 0; q < misfit.size(); ++q)
+    rim_misfit[ring[q]] = misfit[q];
+  std::vector<Eigen::Triplet<double>> entries;
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m));
+  for (std::size_t q = 0; q < m; ++q) {
+    double degree = 0.0;
+    grid.forNeighbours(region.pixels[q], [&](std::size_t j) {
+      degree += 1.0;
+      if (mark[j] <= -2)
+        entries.emplace_back(Eigen::Index(q), Eigen::Index(-2 - mark[j]), -1.0);
+      else
+        rhs(Eigen::Index(q)) += rim_misfit[j];
+    });
+    entries.emplace_back(Eigen::Index(q), Eigen::Index(q), degree);
+  }
+  const Eigen::Index size = static_cast<Eigen::Index>(m);
+  Eigen::SparseMatrix<double> L(size, size);
+  L.setFromTriplets(entries.begin(), entries.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(L);
+  Eigen::VectorXd correction = solver.solve(rhs);
+  if (solver.info() != Eigen::Success || !correction.allFinite())
+    correction.setZero();
+  return correction;
+}
+
 }  // namespace
 
 void fillRangeImageHoles(const RangeImage& image, const RangeNoiseModel& noise, const RangeFillParameters& parameters,
@@ -170,27 +248,8 @@ void fillRangeImageHoles(const RangeImage& image, const RangeNoiseModel& noise, 
     for (const std::size_t i : region.pixels)
       centre += image.direction(i);
     const detail::RayBasis basis(centre.normalized(), step);
-    double reference = 0.0;
-    for (std::size_t q = 0; q < rim_size; ++q)
-      reference += image.range[ring[q]] / double(rim_size);
-    Eigen::Vector3d w = Eigen::Vector3d::Zero();
-    bool fitted = false;
-    for (int pass = 0; pass < 3; ++pass) {
-      detail::InverseRangePlane plane;
-      for (const std::size_t j : ring) {
-        const double r = image.range[j], s = noise.sigma(r) > 0.0 ? noise.sigma(r) : 0.01 * r;
-        const Eigen::Vector3d x = basis.coordinates(image.direction(j));
-        double weight = (r / reference) * (r / reference) * (r / reference) * (r / reference) / (s * s);
-        if (pass > 0)
-          weight *= tukey((r - 1.0 / w.dot(x)) / (2.0 * tau(r)));
-        if (weight > 0.0)
-          plane.add(x, 1.0 / r, weight);
-      }
-      fitted = plane.solve(w) && w(0) > 0.0;
-      if (!fitted)
-        break;
-    }
-    bool one_surface = fitted;  // and a plane through the ring
+    Eigen::Vector3d w;
+    bool one_surface = fitRingPlane(image, noise, ring, rim_size, basis, tau, w);  // and a plane through the ring
     std::vector<double> misfit(rim_size, 0.0);
     for (std::size_t q = 0; q < rim_size && one_surface; ++q) {
       const double predicted = 1.0 / w.dot(basis.coordinates(image.direction(ring[q])));
@@ -208,48 +267,12 @@ void fillRangeImageHoles(const RangeImage& image, const RangeNoiseModel& noise, 
       ++report.grazing;
       continue;
     }
-    if (p.max_hole_diameter > 0.0) {
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      std::vector<Eigen::Vector3d> rim_points;
-      for (std::size_t q = 0; q < rim_size; ++q) {
-        const std::size_t j = ring[q];
-        rim_points.push_back(image.pointAt(j, image.range[j]));
-        mean += rim_points.back() / double(rim_size);
-      }
-      double widest = 0.0;
-      for (const auto& x : rim_points)
-        widest = std::max(widest, 2.0 * (x - mean).norm());
-      if (widest > p.max_hole_diameter) {
-        ++report.too_large;
-        continue;
-      }
+    if (p.max_hole_diameter > 0.0 && rimWiderThan(image, ring, rim_size, p.max_hole_diameter)) {
+      ++report.too_large;
+      continue;
     }
-    // The rim's misfit, harmonic inside (Dirichlet at the rim): L m = Σ rim neighbours' misfits.
+    const Eigen::VectorXd correction = harmonicMisfit(grid, region, ring, misfit, mark, rim_misfit);
     const std::size_t m = region.pixels.size();
-    for (std::size_t q = 0; q < m; ++q)
-      mark[region.pixels[q]] = -2 - static_cast<int>(q);  // the region's own numbering
-    for (std::size_t q = 0; q < rim_size; ++q)
-      rim_misfit[ring[q]] = misfit[q];
-    std::vector<Eigen::Triplet<double>> entries;
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m));
-    for (std::size_t q = 0; q < m; ++q) {
-      double degree = 0.0;
-      grid.forNeighbours(region.pixels[q], [&](std::size_t j) {
-        degree += 1.0;
-        if (mark[j] <= -2)
-          entries.emplace_back(Eigen::Index(q), Eigen::Index(-2 - mark[j]), -1.0);
-        else
-          rhs(Eigen::Index(q)) += rim_misfit[j];
-      });
-      entries.emplace_back(Eigen::Index(q), Eigen::Index(q), degree);
-    }
-    const Eigen::Index size = static_cast<Eigen::Index>(m);
-    Eigen::SparseMatrix<double> L(size, size);
-    L.setFromTriplets(entries.begin(), entries.end());
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(L);
-    Eigen::VectorXd correction = solver.solve(rhs);
-    if (solver.info() != Eigen::Success || !correction.allFinite())
-      correction.setZero();
     for (std::size_t q = 0; q < m; ++q) {
       const std::size_t i = region.pixels[q];
       mark[i] = static_cast<int>(k);
