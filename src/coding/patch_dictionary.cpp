@@ -1,4 +1,5 @@
 #include "core/binary_format.h"
+#include "core/byte_stream.h"
 
 #include <pcl_patchdict/core/checksum.h>
 #include <pcl_patchdict/io/atomic_file.h>
@@ -20,22 +21,9 @@ constexpr std::uint32_t kVersion = 1;
 constexpr int kMaxGrid = 256;
 constexpr int kMaxAtoms = 1 << 16;
 
-#pragma pack(push, 1)
-struct PddHeader {
-  char magic[8];
-  std::uint32_t version;
-  std::uint32_t grid_size;
-  std::uint32_t num_atoms;
-  std::uint32_t flags;  // bit 0: remove mean
-  std::uint32_t method;
-  std::uint32_t sparsity;
-  std::uint32_t iterations;
-  std::uint32_t reserved;
-  std::uint64_t seed;
-  std::uint64_t training_patches;
-};
-#pragma pack(pop)
-static_assert(sizeof(PddHeader) == 56, "unexpected .pdd header size");
+// The header: magic (8 bytes); version, grid size, atom count, flags (bit 0: remove mean), method,
+// sparsity, iterations, reserved (u32 each); seed, training patches (u64 each).
+constexpr std::size_t kHeaderBytes = 56;
 
 int gridOf(Eigen::Index rows)
 {
@@ -213,22 +201,18 @@ void PatchDictionary::save(const std::string& path) const
   requireAtoms();
   if (!detail::isLittleEndian())
     throw Error("writing .pdd files needs a little-endian machine");
-  PddHeader header{};
-  std::memcpy(header.magic, kMagic, sizeof kMagic);
-  header.version = kVersion;
-  header.grid_size = static_cast<std::uint32_t>(grid_size_);
-  header.num_atoms = static_cast<std::uint32_t>(atoms_.cols());
-  header.flags = remove_mean_ ? 1u : 0u;
-  header.method = static_cast<std::uint32_t>(learned_with_.method);
-  header.sparsity = static_cast<std::uint32_t>(learned_with_.sparsity);
-  header.iterations = static_cast<std::uint32_t>(learned_with_.iterations);
-  header.seed = learned_with_.seed;
-  header.training_patches = training_patches_;
-  std::string bytes(reinterpret_cast<const char*>(&header), sizeof header);
-  bytes.append(reinterpret_cast<const char*>(atoms_.data()), sizeof(double) * static_cast<std::size_t>(atoms_.size()));
-  const std::uint64_t checksum = fnv1a64(bytes.data(), bytes.size());
-  bytes.append(reinterpret_cast<const char*>(&checksum), sizeof checksum);
-  writeFileAtomically(path, bytes);
+  detail::ByteWriter out;
+  out.putRaw(kMagic, sizeof kMagic);
+  for (const std::uint32_t field :
+       {kVersion, static_cast<std::uint32_t>(grid_size_), static_cast<std::uint32_t>(atoms_.cols()),
+        remove_mean_ ? 1u : 0u, static_cast<std::uint32_t>(learned_with_.method),
+        static_cast<std::uint32_t>(learned_with_.sparsity), static_cast<std::uint32_t>(learned_with_.iterations), 0u})
+    out.putU32(field);
+  out.putU64(learned_with_.seed);
+  out.putU64(training_patches_);
+  out.putRaw(atoms_.data(), sizeof(double) * static_cast<std::size_t>(atoms_.size()));
+  out.putU64(fnv1a64(out.bytes().data(), out.bytes().size()));
+  writeFileAtomically(path, out.bytes());
 }
 
 PatchDictionary::Ptr PatchDictionary::load(const std::string& path, int expected_grid_size)
@@ -242,15 +226,25 @@ PatchDictionary::Ptr PatchDictionary::fromBytes(const std::string& bytes, int ex
   if (!detail::isLittleEndian())
     throw Error("reading .pdd files needs a little-endian machine");
   const std::string where = "cannot read dictionary '" + name + "': ";
-  if (bytes.size() < sizeof(PddHeader) + sizeof(std::uint64_t)) {
+  if (bytes.size() < kHeaderBytes + sizeof(std::uint64_t)) {
     if (bytes.size() >= sizeof kMagic && std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
       throw Error(where + "not a .pdd file");
     throw Error(where + "file is truncated (" + std::to_string(bytes.size()) + " bytes)");
   }
-  PddHeader header;
-  std::memcpy(&header, bytes.data(), sizeof header);
-  if (std::memcmp(header.magic, kMagic, sizeof kMagic) != 0)
+  detail::ByteReader in(bytes.data(), bytes.size(), where);
+  char magic[sizeof kMagic];
+  in.getRaw(magic, sizeof magic);
+  if (std::memcmp(magic, kMagic, sizeof kMagic) != 0)
     throw Error(where + "not a .pdd file");
+  struct {
+    std::uint32_t version, grid_size, num_atoms, flags, method, sparsity, iterations, reserved;
+    std::uint64_t seed, training_patches;
+  } header;
+  for (std::uint32_t* field : {&header.version, &header.grid_size, &header.num_atoms, &header.flags, &header.method,
+                               &header.sparsity, &header.iterations, &header.reserved})
+    *field = in.getU32();
+  header.seed = in.getU64();
+  header.training_patches = in.getU64();
   if (header.version != kVersion)
     throw Error(where + "format version " + std::to_string(header.version) + " (this build reads version " +
                 std::to_string(kVersion) + ")");
@@ -259,14 +253,13 @@ PatchDictionary::Ptr PatchDictionary::fromBytes(const std::string& bytes, int ex
     throw Error(where + "implausible header (grid " + std::to_string(header.grid_size) + ", atoms " +
                 std::to_string(header.num_atoms) + ")");
   const std::size_t rows = static_cast<std::size_t>(header.grid_size) * header.grid_size;
-  const std::size_t expected = sizeof header + sizeof(double) * rows * header.num_atoms + sizeof(std::uint64_t);
+  const std::size_t expected = kHeaderBytes + sizeof(double) * rows * header.num_atoms + sizeof(std::uint64_t);
   if (bytes.size() < expected)
     throw Error(where + "file is truncated (" + std::to_string(bytes.size()) + " of " + std::to_string(expected) +
                 " bytes)");
   if (bytes.size() > expected)
     throw Error(where + std::to_string(bytes.size() - expected) + " unexpected bytes after the atoms");
-  std::uint64_t stored;
-  std::memcpy(&stored, bytes.data() + expected - sizeof stored, sizeof stored);
+  const std::uint64_t stored = detail::ByteReader(bytes.data() + expected - 8, 8, where).getU64();
   if (fnv1a64(bytes.data(), expected - sizeof stored) != stored)
     throw Error(where + "checksum mismatch (the file is corrupted)");
   if (expected_grid_size > 0 && static_cast<int>(header.grid_size) != expected_grid_size)
@@ -275,7 +268,7 @@ PatchDictionary::Ptr PatchDictionary::fromBytes(const std::string& bytes, int ex
                 " are needed");
   auto dictionary = std::make_shared<PatchDictionary>();
   Eigen::MatrixXd atoms(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(header.num_atoms));
-  std::memcpy(atoms.data(), bytes.data() + sizeof header, sizeof(double) * rows * header.num_atoms);
+  in.getRaw(atoms.data(), sizeof(double) * rows * header.num_atoms);
   if (!atoms.allFinite())
     throw Error(where + "atoms contain NaN or Inf");
   dictionary->atoms_ = atoms;

@@ -1,4 +1,4 @@
-// Helpers shared by the project's binary formats (.pdd, .pds): private to the library.
+// Helpers shared by the project's binary formats (.pds, .pdd, .pdk, .pdc; all written and read through core/byte_stream.h): private to the library.
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,5 @@
 #include "core/binary_format.h"
+#include "core/byte_stream.h"
 
 #include <pcl_patchdict/io/atomic_file.h>
 #include <pcl_patchdict/core/error.h>
@@ -21,28 +22,15 @@ constexpr char kMagic[8] = {'P', 'C', 'L', 'P', 'D', 'S', '\0', '\x1a'};
 constexpr std::uint32_t kVersion = 1;
 constexpr int kMaxGrid = 256;  // as .pdd: a 256×256 patch is already far beyond the paper's 16–24
 
-#pragma pack(push, 1)
-struct PdsHeader {
-  char magic[8];
-  std::uint32_t version;
-  std::uint32_t grid_size;
-  std::uint64_t num_patches;
-  double radius;
-  std::uint64_t reserved;
-};
-#pragma pack(pop)
-static_assert(sizeof(PdsHeader) == 40, "unexpected .pds header size");
+// The header: magic (8 bytes), version (u32), grid size (u32), patch count (u64), radius (f64),
+// reserved (u64, 0).
+constexpr std::size_t kHeaderBytes = 40;
 
 std::size_t bytesPerPatch(std::size_t bins)
 {
   return 3 * sizeof(double) + 9 * sizeof(double) + bins * sizeof(double) + bins + sizeof(std::int32_t);
 }
 
-template <typename T>
-void appendRaw(std::string& bytes, const T* data, std::size_t count)
-{
-  bytes.append(reinterpret_cast<const char*>(data), sizeof(T) * count);
-}
 
 }  // namespace
 
@@ -104,30 +92,26 @@ void PatchSet::save(const std::string& path) const
   check();
   if (!detail::isLittleEndian())
     throw Error("writing .pds files needs a little-endian machine");
-  PdsHeader header{};
-  std::memcpy(header.magic, kMagic, sizeof kMagic);
-  header.version = kVersion;
-  header.grid_size = static_cast<std::uint32_t>(grid_size);
-  header.num_patches = static_cast<std::uint64_t>(seeds.size());
-  header.radius = radius;
   const std::size_t patches = seeds.size();
   const std::size_t bins = static_cast<std::size_t>(grid_size) * grid_size;
-  std::string bytes;
-  bytes.reserve(sizeof header + patches * bytesPerPatch(bins) + sizeof(std::uint64_t));
-  appendRaw(bytes, &header, 1);
+  detail::ByteWriter out;
+  out.bytes().reserve(kHeaderBytes + patches * bytesPerPatch(bins) + sizeof(std::uint64_t));
+  out.putRaw(kMagic, sizeof kMagic);
+  out.putU32(kVersion);
+  out.putU32(static_cast<std::uint32_t>(grid_size));
+  out.putU64(static_cast<std::uint64_t>(patches));
+  out.putF64(radius);
+  out.putU64(0);  // reserved
   for (const auto& seed : seeds)
-    appendRaw(bytes, seed.data(), 3);
+    out.putRaw(seed.data(), 3 * sizeof(double));
   for (const auto& rotation : rotations)
-    appendRaw(bytes, rotation.data(), 9);
-  appendRaw(bytes, heights.data(), static_cast<std::size_t>(heights.size()));
-  std::string mask(static_cast<std::size_t>(observed.size()), '\0');
+    out.putRaw(rotation.data(), 9 * sizeof(double));
+  out.putRaw(heights.data(), sizeof(double) * static_cast<std::size_t>(heights.size()));
   for (Eigen::Index k = 0; k < observed.size(); ++k)
-    mask[static_cast<std::size_t>(k)] = observed.data()[k] ? '\1' : '\0';
-  bytes += mask;
-  appendRaw(bytes, source.data(), source.size());
-  const std::uint64_t checksum = fnv1a64(bytes.data(), bytes.size());
-  appendRaw(bytes, &checksum, 1);
-  writeFileAtomically(path, bytes);
+    out.putU8(observed.data()[k] ? 1 : 0);
+  out.putRaw(source.data(), sizeof(std::int32_t) * source.size());
+  out.putU64(fnv1a64(out.bytes().data(), out.bytes().size()));
+  writeFileAtomically(path, out.bytes());
 }
 
 PatchSet PatchSet::load(const std::string& path)
@@ -142,64 +126,61 @@ PatchSet PatchSet::fromBytes(const std::string& bytes, const std::string& name)
   const std::string where = "cannot read patch set '" + name + "': ";
   if (bytes.size() >= sizeof kMagic && std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     throw Error(where + "not a .pds file");
-  if (bytes.size() < sizeof(PdsHeader) + sizeof(std::uint64_t))
+  if (bytes.size() < kHeaderBytes + sizeof(std::uint64_t))
     throw Error(where + "file is truncated (" + std::to_string(bytes.size()) + " bytes)");
-  PdsHeader header;
-  std::memcpy(&header, bytes.data(), sizeof header);
-  if (header.version != kVersion)
-    throw Error(where + "format version " + std::to_string(header.version) + " (this build reads version " +
+  detail::ByteReader in(bytes.data(), bytes.size(), where);
+  char magic[sizeof kMagic];
+  in.getRaw(magic, sizeof magic);
+  const std::uint32_t version = in.getU32(), grid_size = in.getU32();
+  const std::uint64_t num_patches = in.getU64();
+  const double radius = in.getF64();
+  const std::uint64_t reserved = in.getU64();
+  if (version != kVersion)
+    throw Error(where + "format version " + std::to_string(version) + " (this build reads version " +
                 std::to_string(kVersion) + ")");
-  if (header.grid_size < 1 || header.grid_size > static_cast<std::uint32_t>(kMaxGrid) || !(header.radius > 0.0) ||
-      !std::isfinite(header.radius) || header.reserved != 0)
-    throw Error(where + "implausible header (grid " + std::to_string(header.grid_size) + ", radius " +
-                std::to_string(header.radius) + ")");
-  const std::size_t bins = static_cast<std::size_t>(header.grid_size) * header.grid_size;
+  if (grid_size < 1 || grid_size > static_cast<std::uint32_t>(kMaxGrid) || !(radius > 0.0) || !std::isfinite(radius) ||
+      reserved != 0)
+    throw Error(where + "implausible header (grid " + std::to_string(grid_size) + ", radius " + std::to_string(radius) +
+                ")");
+  const std::size_t bins = static_cast<std::size_t>(grid_size) * grid_size;
   const std::size_t per_patch = bytesPerPatch(bins);
-  const std::size_t payload = bytes.size() - sizeof header - sizeof(std::uint64_t);
+  const std::size_t payload = bytes.size() - kHeaderBytes - sizeof(std::uint64_t);
   // Compare by division: a forged count must neither overflow the size computation nor make us
   // allocate more than the file could possibly hold.
-  if (header.num_patches > payload / per_patch)
-    throw Error(where + "file is truncated or its patch count is implausible (" + std::to_string(header.num_patches) +
+  if (num_patches > payload / per_patch)
+    throw Error(where + "file is truncated or its patch count is implausible (" + std::to_string(num_patches) +
                 " patches declared, " + std::to_string(bytes.size()) + " bytes)");
-  const std::size_t patches = static_cast<std::size_t>(header.num_patches);
-  const std::size_t expected = sizeof header + patches * per_patch + sizeof(std::uint64_t);
+  const std::size_t patches = static_cast<std::size_t>(num_patches);
+  const std::size_t expected = kHeaderBytes + patches * per_patch + sizeof(std::uint64_t);
   if (bytes.size() > expected)
     throw Error(where + std::to_string(bytes.size() - expected) + " unexpected bytes after the patches");
-  std::uint64_t stored;
-  std::memcpy(&stored, bytes.data() + expected - sizeof stored, sizeof stored);
+  const std::uint64_t stored = detail::ByteReader(bytes.data() + expected - 8, 8, where).getU64();
   if (fnv1a64(bytes.data(), expected - sizeof stored) != stored)
     throw Error(where + "checksum mismatch (the file is truncated or corrupted)");
 
   PatchSet set;
-  set.grid_size = static_cast<int>(header.grid_size);
-  set.radius = header.radius;
-  const char* cursor = bytes.data() + sizeof header;
+  set.grid_size = static_cast<int>(grid_size);
+  set.radius = radius;
   set.seeds.resize(patches);
-  for (auto& seed : set.seeds) {
-    std::memcpy(seed.data(), cursor, 3 * sizeof(double));
-    cursor += 3 * sizeof(double);
-  }
+  for (auto& seed : set.seeds)
+    in.getRaw(seed.data(), 3 * sizeof(double));
   set.rotations.resize(patches);
-  for (auto& rotation : set.rotations) {
-    std::memcpy(rotation.data(), cursor, 9 * sizeof(double));
-    cursor += 9 * sizeof(double);
-  }
+  for (auto& rotation : set.rotations)
+    in.getRaw(rotation.data(), 9 * sizeof(double));
   const auto rows = static_cast<Eigen::Index>(bins), cols = static_cast<Eigen::Index>(patches);
   set.heights.resize(rows, cols);
   if (patches > 0)  // an empty matrix has no data pointer to copy into
-    std::memcpy(set.heights.data(), cursor, sizeof(double) * bins * patches);
-  cursor += sizeof(double) * bins * patches;
+    in.getRaw(set.heights.data(), sizeof(double) * bins * patches);
   set.observed.resize(rows, cols);
   for (std::size_t k = 0; k < bins * patches; ++k) {
-    const auto flag = static_cast<unsigned char>(cursor[k]);
+    const std::uint8_t flag = in.getU8();
     if (flag > 1)
       throw Error(where + "observation mask holds a byte other than 0 or 1");
     set.observed.data()[k] = flag == 1;
   }
-  cursor += bins * patches;
   set.source.resize(patches);
   if (patches > 0)
-    std::memcpy(set.source.data(), cursor, sizeof(std::int32_t) * patches);
+    in.getRaw(set.source.data(), sizeof(std::int32_t) * patches);
   try {
     set.check();
   } catch (const Error& error) {
