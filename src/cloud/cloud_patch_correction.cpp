@@ -8,7 +8,7 @@
 #include <pcl_patchdict/repair/patch_correction.h>
 #include <pcl_patchdict/repair/patch_prediction_check.h>
 
-#include "pcl/point_conversion.h"
+#include "geometry/point_search.h"
 
 #include <pcl/kdtree/kdtree_flann.h>
 
@@ -38,15 +38,14 @@ void requireFinite(const std::vector<Eigen::Vector3d>& points, const char* what)
 /** Mean distance of each of (up to 20,000 evenly strided) points to its nearest other point. */
 double meanSpacing(const std::vector<Eigen::Vector3d>& points)
 {
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(detail::toCloudXYZ(points));
+  const detail::PointSearch tree(points);
   const std::size_t stride = std::max<std::size_t>(1, points.size() / 20000);
   double sum = 0.0;
   std::size_t count = 0;
   std::vector<int> near(2);
   std::vector<float> squared(2);
   for (std::size_t i = 0; i < points.size(); i += stride)
-    if (tree.nearestKSearch(detail::toPointXYZ(points[i]), 2, near, squared) == 2) {
+    if (tree.nearest(points[i], 2, near, squared) == 2) {
       sum += std::sqrt(static_cast<double>(squared[1]));
       ++count;
     }
@@ -60,8 +59,7 @@ std::vector<int> groupPoints(const std::vector<Eigen::Vector3d>& points, double 
   groups = 0;
   if (points.empty())
     return group;
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(detail::toCloudXYZ(points));
+  const detail::PointSearch tree(points);
   std::vector<int> near;
   std::vector<float> squared;
   for (std::size_t start = 0; start < points.size(); ++start) {
@@ -72,7 +70,7 @@ std::vector<int> groupPoints(const std::vector<Eigen::Vector3d>& points, double 
     while (!stack.empty()) {
       const std::size_t i = stack.back();
       stack.pop_back();
-      tree.radiusSearch(detail::toPointXYZ(points[i]), static_cast<float>(link), near, squared);
+      tree.within(points[i], static_cast<float>(link), near, squared);
       for (int j : near)
         if (group[static_cast<std::size_t>(j)] < 0) {
           group[static_cast<std::size_t>(j)] = groups;
@@ -117,14 +115,13 @@ double medianGroupDiameter(const std::vector<Eigen::Vector3d>& points, const std
 /** Each seed moved along its frame's Z onto the points: by the mean height of its 16 nearest. */
 void moveSeedsOntoPoints(const std::vector<Eigen::Vector3d>& points, PatchLayout& layout)
 {
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(detail::toCloudXYZ(points));
+  const detail::PointSearch tree(points);
   const int k = static_cast<int>(std::min<std::size_t>(16, points.size()));
   std::vector<int> near(static_cast<std::size_t>(k));
   std::vector<float> squared(static_cast<std::size_t>(k));
   for (std::size_t i = 0; i < layout.seeds.size(); ++i) {
     const Eigen::Vector3d z = layout.frames[i].row(2).transpose();
-    const int found = tree.nearestKSearch(detail::toPointXYZ(layout.seeds[i]), k, near, squared);
+    const int found = tree.nearest(layout.seeds[i], k, near, squared);
     if (found <= 0)
       continue;
     double height = 0.0;

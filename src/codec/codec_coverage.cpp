@@ -4,7 +4,7 @@
 
 #include "codec/pdc_format.h"
 
-#include "pcl/point_conversion.h"
+#include "geometry/point_search.h"
 
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/core/local_frame.h>
@@ -124,8 +124,7 @@ std::vector<CoverageFrame> chooseCoverageFrames(const TriangleMesh& surface, con
   });
 
   const std::vector<Eigen::Vector3d> normals = computeVertexNormals(surface);
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree(false);
-  tree.setInputCloud(toCloudXYZ(surface.vertices));
+  const detail::PointSearch tree(surface.vertices, false);
   const double half = 0.4 * std::sqrt(2.0) * radius;  // 80 % of the square's half side
   std::vector<int> found;
   std::vector<float> squared;
@@ -139,7 +138,7 @@ std::vector<CoverageFrame> chooseCoverageFrames(const TriangleMesh& surface, con
     const Eigen::Vector3d& own = normals[static_cast<std::size_t>(v)];
     if (own.squaredNorm() < 0.5)
       continue;  // a vertex of degenerate faces only
-    tree.radiusSearch(toPointXYZ(s), floatSearchRadius(radius), found, squared);
+    tree.within(s, floatSearchRadius(radius), found, squared);
     std::vector<std::int32_t> ball;
     for (const int u : found)
       if ((surface.vertices[static_cast<std::size_t>(u)] - s).squaredNorm() <= radius * radius)

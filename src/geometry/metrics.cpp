@@ -4,7 +4,7 @@
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/core/surface_sampling.h>
 
-#include "pcl/point_conversion.h"
+#include "geometry/point_search.h"
 
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_types.h>
@@ -97,8 +97,7 @@ PointSetDistance pointsToPointsDistance(const std::vector<Vector3d>& points, con
   for (const auto& p : reference)
     if (!p.allFinite())
       throw Error("point distance: the reference cloud has non-finite points");
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(detail::toCloudXYZ(reference));
+  const detail::PointSearch tree(reference);
   std::vector<double> distances(points.size());
   const auto count = static_cast<std::ptrdiff_t>(points.size());
 #pragma omp parallel
@@ -111,7 +110,7 @@ PointSetDistance pointsToPointsDistance(const std::vector<Vector3d>& points, con
       if (!p.allFinite())
         throw Error("point distance: a point is not finite");
       // FLANN finds the nearest in float; the distance itself is recomputed in double.
-      tree.nearestKSearch(detail::toPointXYZ(p), 1, index, squared);
+      tree.nearest(p, 1, index, squared);
       distances[static_cast<std::size_t>(i)] = (reference[static_cast<std::size_t>(index[0])] - p).norm();
     }
   }

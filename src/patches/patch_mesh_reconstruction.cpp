@@ -3,7 +3,7 @@
 #include <pcl_patchdict/patches/patch_mesh_reconstruction.h>
 #include <pcl_patchdict/core/vertex_normals.h>
 
-#include "pcl/point_conversion.h"
+#include "geometry/point_search.h"
 
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_types.h>
@@ -36,8 +36,7 @@ std::vector<VertexPatchSample> PatchMeshReconstruction::computeMapping() const
   std::vector<VertexPatchSample> mapping;
   if (set.numPatches() == 0 || target_->vertices.empty())
     return mapping;
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(detail::toCloudXYZ(set.seeds));
+  const detail::PointSearch tree(set.seeds);
   const double radius = set.radius;
   // FLANN searches in float: widen a little, then decide exactly in double.
   const float search_radius = detail::floatSearchRadius(radius);
@@ -55,7 +54,7 @@ std::vector<VertexPatchSample> PatchMeshReconstruction::computeMapping() const
 #pragma omp for schedule(dynamic, 256)
     for (std::ptrdiff_t v = 0; v < count; ++v) {
       const Eigen::Vector3d& p = target_->vertices[static_cast<std::size_t>(v)];
-      tree.radiusSearch(detail::toPointXYZ(p), search_radius, indices, distances);
+      tree.within(p, search_radius, indices, distances);
       std::sort(indices.begin(), indices.end());  // FLANN's order is not specified
       auto& samples = per_vertex[static_cast<std::size_t>(v)];
       for (const int patch : indices) {

@@ -7,7 +7,7 @@
 #include <pcl_patchdict/core/vertex_normals.h>
 #include <pcl_patchdict/pcl/conversions.h>
 
-#include "pcl/point_conversion.h"
+#include "geometry/point_search.h"
 
 #include <pcl/kdtree/kdtree_flann.h>
 
@@ -30,8 +30,7 @@ std::size_t addCoverageSeeds(const TriangleMesh& surface, double quad_length, Pa
   if (layout.seeds.empty())
     return 0;
   const double radius = quad_length / std::sqrt(2.0);
-  pcl::KdTreeFLANN<pcl::PointXYZ> vertex_tree;
-  vertex_tree.setInputCloud(detail::toCloudXYZ(surface.vertices));
+  const detail::PointSearch vertex_tree(surface.vertices);
   std::vector<char> covered(surface.vertices.size(), 0);
   std::vector<int> indices;
   std::vector<float> distances;
@@ -39,7 +38,7 @@ std::size_t addCoverageSeeds(const TriangleMesh& surface, double quad_length, Pa
   const float search_radius = detail::floatSearchRadius(radius);
   const auto cover = [&](const Eigen::Vector3d& seed, const Eigen::Matrix3d& rows) {
     // Widened float search, then the reconstruction's own exact test.
-    vertex_tree.radiusSearch(detail::toPointXYZ(seed), search_radius, indices, distances);
+    vertex_tree.within(seed, search_radius, indices, distances);
     for (const int v : indices)
       if (patchContains(seed, rows, radius, surface.vertices[v], normals[v]))
         covered[v] = 1;
@@ -47,14 +46,13 @@ std::size_t addCoverageSeeds(const TriangleMesh& surface, double quad_length, Pa
   for (std::size_t s = 0; s < layout.seeds.size(); ++s)
     cover(layout.seeds[s], layout.frames[s]);
 
-  pcl::KdTreeFLANN<pcl::PointXYZ> seed_tree;
-  seed_tree.setInputCloud(detail::toCloudXYZ(layout.seeds));
+  const detail::PointSearch seed_tree(layout.seeds);
   std::size_t added = 0;
   for (std::size_t v = 0; v < surface.vertices.size(); ++v) {
     if (covered[v] || normals[v].squaredNorm() == 0.0)  // zero normal: no face uses v
       continue;
     const Eigen::Vector3d& p = surface.vertices[v];
-    seed_tree.nearestKSearch(detail::toPointXYZ(p), 1, indices, distances);
+    seed_tree.nearest(p, 1, indices, distances);
     const Eigen::Matrix3d nearest = layout.frames[static_cast<std::size_t>(indices[0])];  // a copy: frames grows below
     const Eigen::Vector3d z = normals[v];
     Eigen::Vector3d x = transportTangent(nearest.row(0).transpose(), nearest.row(2).transpose(), z);

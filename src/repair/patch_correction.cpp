@@ -11,7 +11,7 @@
 #include <pcl_patchdict/patches/patch_mesh_reconstruction.h>
 #include <pcl_patchdict/core/vertex_normals.h>
 
-#include "pcl/point_conversion.h"
+#include "geometry/point_search.h"
 
 #include <pcl/kdtree/kdtree_flann.h>
 
@@ -437,8 +437,7 @@ void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& 
   for (std::size_t u = 0; u < usable.index.size(); ++u)
     usable_seeds[u] = patches.seeds[static_cast<std::size_t>(usable.index[u])];
   // The reconstruction's search: FLANN in float with a widened radius, then the exact test.
-  pcl::KdTreeFLANN<pcl::PointXYZ> seed_tree;
-  seed_tree.setInputCloud(detail::toCloudXYZ(usable_seeds));
+  const detail::PointSearch seed_tree(usable_seeds);
   const float search_radius = detail::floatSearchRadius(patches.radius);
   const double edge = std::max(r.mean_edge_length, 1e-12);
   ConstraintSource source(patches, usable.index, filled, p);
@@ -470,7 +469,7 @@ void PatchCorrection::compute(std::vector<std::vector<PointToPlaneConstraint>>& 
     const Eigen::Vector3d x0 = estimate.vertices[static_cast<std::size_t>(v)];
     std::vector<int> near;
     std::vector<float> squared_distances;
-    seed_tree.radiusSearch(detail::toPointXYZ(x0), search_radius, near, squared_distances);
+    seed_tree.within(x0, search_radius, near, squared_distances);
     std::sort(near.begin(), near.end());  // FLANN's order is not specified
     std::vector<PointToPlaneConstraint>& list = constraints[static_cast<std::size_t>(ti)];
     std::vector<double> offsets;  // d = n·(x0 − p): the correction each patch asks for

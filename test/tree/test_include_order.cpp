@@ -112,6 +112,10 @@ std::vector<std::string> orderViolations(const fs::path& root, const StageOrder&
         continue;
       const std::string target = m[2].matched ? m[2].str() : m[3].matched ? m[3].str() : m[4].str();
       const std::string where = relative.string() + ":" + std::to_string(number) + ": " + m[1].str();
+      if (m[3].matched && target == "pcl") {  // "pcl/x.h" reads as PCL's own <pcl/x.h>
+        out.push_back(where + ": a private header under \"pcl/\" reads as one of PCL's");
+        continue;
+      }
       if (target == "eval") {
         if (library)
           out.push_back(where + ": the library includes the evaluation code");
@@ -164,18 +168,20 @@ TEST(IncludeOrder, APlantedWrongIncludeIsFound)
   write("src/io/r.cpp", "#include <pcl_patchdict_eval/shapes.h>\n");
   write("src/pcl/quad_frame_estimation.cpp", "#include <pcl_patchdict/coding/sparse_coding.h>\n");
   write("src/pcl/conversions.cpp", "#include <pcl_patchdict/quads/quad_mesh.h>\n");
+  write("src/repair/s.cpp", "#include \"pcl/point_conversion.h\"\n#include <pcl/kdtree/kdtree_flann.h>\n");
   write("apps/cmd.cpp", "#include <pcl_patchdict/cloud/c.h>\n#include <pcl_patchdict_eval/shapes.h>\n");
   StageOrder order;
   order.stages = {"core", "pcl", "io", "geometry", "quads", "patches", "coding", "repair", "codec", "cloud"};
   order.skin = {"quad_frame_estimation"};
   const std::vector<std::string> found = orderViolations(root, order);
   fs::remove_all(root);
-  ASSERT_EQ(found.size(), 4u) << joined(found);
+  ASSERT_EQ(found.size(), 5u) << joined(found);
   EXPECT_EQ(found[0].rfind("include/pcl_patchdict/geometry/g.h:3: <pcl_patchdict/cloud/c.h>", 0), 0u) << found[0];
   EXPECT_EQ(found[1].rfind("src/io/r.cpp:1:", 0), 0u) << found[1];
   EXPECT_NE(found[1].find("evaluation code"), std::string::npos) << found[1];
   EXPECT_EQ(found[2].rfind("src/pcl/conversions.cpp:1:", 0), 0u) << found[2];  // not skin
   EXPECT_EQ(found[3].rfind("src/quads/q.cpp:1: \"patches/private.h\"", 0), 0u) << found[3];
+  EXPECT_EQ(found[4].rfind("src/repair/s.cpp:1: \"pcl/point_conversion.h\": a private header", 0), 0u) << found[4];
 }
 
 }  // namespace
