@@ -159,7 +159,7 @@ int runLearn(const std::vector<std::string>& args);
 int runPatches(const std::vector<std::string>& args);
 int runReconstruct(const std::vector<std::string>& args);
 int runFillHoles(const std::vector<std::string>& args);
-int runInpaint(const std::vector<std::string>& args);
+int runFillMissing(const std::vector<std::string>& args);
 int runDenoise(const std::vector<std::string>& args);
 int runQuads(const std::vector<std::string>& args);
 int runCompress(const std::vector<std::string>& args);

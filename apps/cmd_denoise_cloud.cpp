@@ -1,5 +1,5 @@
 // `pcl_patchdict denoise CLOUD -o OUT` for point clouds (.pcd, or .ply without faces):
-// GeometricCloudInpainter (statistical pre-filter, local quadric patches, residual outliers).
+// GeometricCloudRepair (statistical pre-filter, local quadric patches, residual outliers).
 // A PCD keeps every field it has (colour, intensity, labels…) and its organisation; a PLY cloud
 // keeps positions and normals. Lengths are in units of the cloud's largest bounding-box side.
 #include "cli.h"
@@ -8,7 +8,7 @@
 #include "ring_scan.h"
 
 #include <pcl_patchdict/io/mesh_io.h>
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 #include <pcl_patchdict/cloud/sparse_patch_inpainter.h>
 
 #include <pcl/common/io.h>
@@ -27,14 +27,14 @@ namespace cli {
 
 namespace {
 
-using Inpainter = GeometricCloudInpainter<pcl::PointNormal, pcl::PointNormal>;
+using Inpainter = GeometricCloudRepair<pcl::PointNormal, pcl::PointNormal>;
 
 /** The command line of a cloud repair, read and checked before the input is. */
 struct CloudRepairLine {
   bool fill = false, quiet = false;
   std::string in_path, out_path;
   MeshFormat out_format = MeshFormat::Unknown;
-  CloudDenoisingParameters parameters;
+  CloudRepairParameters parameters;
   double noise = 0.0, bandwidth = 0.0;  ///< in the units of --absolute's choice
   // fill-holes only (denoise keeps the library's defaults):
   CloudCompletionParameters completion;  ///< max_hole_diameter in those units; 0: each fill's own bound
@@ -55,7 +55,7 @@ struct CloudRepairResult {
   Inpainter::Mode mode = Inpainter::Mode::Denoise;
   double scale = 1.0;  ///< the unit of the lengths given and reported
   pcl::PointCloud<pcl::PointNormal> denoised;
-  CloudDenoisingReport report;
+  CloudRepairReport report;
   pcl::Indices records;  ///< the input record of every output point (kept, then added)
   pcl::Indices filled;   ///< a depth image's filled pixels
   CloudPatchReport patches;  ///< the patch stage of an unorganised fill
@@ -82,7 +82,7 @@ CloudRepairLine readCloudRepairLine(const Arguments& args, bool fill)
   line.out_format = formatFromPath(line.out_path);
   if (line.out_format != MeshFormat::PCD && line.out_format != MeshFormat::PLY)
     throw Error("output '" + line.out_path + "' must be a cloud file (.pcd, or .ply written without faces)");
-  CloudDenoisingParameters& parameters = line.parameters;
+  CloudRepairParameters& parameters = line.parameters;
   parameters.outlier_filter = !args.has("no-outlier-filter");
   parameters.outlier_neighbours = static_cast<int>(args.getInt("outlier-neighbours"));
   parameters.outlier_std = args.getDouble("outlier-std");
@@ -113,7 +113,7 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
   // bounding-box side, or the cloud's own with --absolute.
   result.scale = args.has("absolute") ? 1.0 : input.scale;
   const double scale = result.scale;
-  CloudDenoisingParameters parameters = line.parameters;
+  CloudRepairParameters parameters = line.parameters;
   parameters.noise_sigma = line.noise * scale;
   parameters.bandwidth = line.bandwidth * scale;
   result.mode = !line.fill ? Inpainter::Mode::Denoise
@@ -126,7 +126,7 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
   RingScan ring_scan;
   const bool by_ring = readRingScan(input, ring_scan);
   const auto run = [&](auto& inpainter, auto& out) {
-    auto& base = inpainter.getGeometricInpainter();
+    auto& base = inpainter.getGeometricRepair();
     inpainter.setInputCloud(by_ring ? ring_scan.organised : cloud);
     base.setParameters(parameters);
     // An unorganised PCD whose VIEWPOINT is not the default one was seen from there.
@@ -183,7 +183,7 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
 // 3. The notes on stderr.
 void noteCloudRepair(const CloudRepairLine& line, const CloudRepairResult& result)
 {
-  const CloudDenoisingReport& report = result.report;
+  const CloudRepairReport& report = result.report;
   const double scale = result.scale;
   const bool quiet = line.quiet, fill = line.fill;
   char text[240];
@@ -363,7 +363,7 @@ void writeCloudOutput(const CloudRepairLine& line, const CloudInput& input, cons
 // 5a. An organised frame processed as a depth image: its camera, noise law, fill and free space.
 JsonObject depthImageJson(const CloudRepairResult& result, bool fill)
 {
-  const CloudDenoisingReport& report = result.report;
+  const CloudRepairReport& report = result.report;
   JsonObject image, camera, law;
   camera.add("fx", report.camera.fx).add("fy", report.camera.fy).add("cx", report.camera.cx)
       .add("cy", report.camera.cy).add("rms_pixels", report.camera.rms_pixels);
@@ -396,7 +396,7 @@ JsonObject depthImageJson(const CloudRepairResult& result, bool fill)
 
 JsonObject rangeImageJson(const CloudRepairResult& result, bool fill)
 {
-  const CloudDenoisingReport& report = result.report;
+  const CloudRepairReport& report = result.report;
   const SpinningSensorModel& s = report.spinning;
   const RangeNoiseModel& n = report.range_noise;
   JsonObject image, sensor, law;
@@ -449,7 +449,7 @@ JsonObject patchStageJson(const CloudPatchReport& p, double scale)
 JsonObject cloudRepairJson(const CloudRepairLine& line, const CloudInput& input, const CloudRepairResult& result,
                            const StageTimer& timer)
 {
-  const CloudDenoisingReport& report = result.report;
+  const CloudRepairReport& report = result.report;
   const double scale = result.scale;
   const bool fill = line.fill;
   const pcl::PointCloud<pcl::PointNormal>& cloud = *input.cloud;
@@ -553,7 +553,7 @@ int runCloudRepair(const std::vector<std::string>& raw, bool fill)
   writeCloudOutput(line, input, result);
   timer.stop();
 
-  const CloudDenoisingReport& report = result.report;
+  const CloudRepairReport& report = result.report;
   if (args.has("json")) {
     std::cout << cloudRepairJson(line, input, result, timer).str() << '\n';
   } else if (!line.quiet) {

@@ -29,7 +29,7 @@ const std::map<std::string, std::function<int(const std::vector<std::string>&)>>
       {"patches", cli::runPatches},   {"learn", cli::runLearn},
       {"reconstruct", cli::runReconstruct}, {"compress", cli::runCompress},
       {"decompress", cli::runDecompress},   {"denoise", cli::runDenoise},
-      {"inpaint", cli::runInpaint},   {"fill-holes", cli::runFillHoles},
+      {"fill-missing", cli::runFillMissing}, {"fill-holes", cli::runFillHoles},
   };
   return table;
 }
@@ -77,7 +77,8 @@ int main(int argc, char** argv)
   const std::vector<std::string> all(argv + 1, argv + argc);
   if (all.empty() || all[0] == "--help" || all[0] == "-h")
     return cli::runHelp({});
-  const std::string name = all[0];
+  // `inpaint` is fill-missing's former name: still accepted.
+  const std::string name = all[0] == "inpaint" ? std::string("fill-missing") : all[0];
   const std::vector<std::string> args(all.begin() + 1, all.end());
   try {
     if (name == "help")

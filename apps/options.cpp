@@ -378,7 +378,7 @@ void addRepairCommands(std::vector<CommandSpec>& table)
                    std::vector<OptionSpec>{required("output", "OUT.pcd|OUT.ply", "the denoised cloud")} +
                        cloudDenoisingOptions(),
                    {}});
-  table.push_back({"inpaint", "", "IN", 1, 1, "recover missing vertices",
+  table.push_back({"fill-missing", "", "IN", 1, 1, "recover missing vertices (formerly `inpaint`, a name still accepted)",
                    std::vector<OptionSpec>{
                        required("missing", "IDX.txt", "the missing vertices' indices"),
                        required("output", "OUT", "the repaired mesh (vertex order kept: .ply, .obj, .off)"),

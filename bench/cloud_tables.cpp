@@ -13,7 +13,7 @@
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/core/normalization.h>
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 #include <pcl_patchdict/core/surface_sampling.h>
 #include <pcl_patchdict/pcl/conversions.h>
 
@@ -159,7 +159,7 @@ void denoiseRows(const MeshCase& c, const PointToMeshDistance& distance, double 
   }
   const std::string what = "noise " + std::to_string(k).substr(0, 4);
   auto start = std::chrono::steady_clock::now();
-  GeometricCloudInpainter<pcl::PointXYZ> ours;
+  GeometricCloudRepair<pcl::PointXYZ> ours;
   ours.setInputCloud(noisy);
   Cloud denoised;
   ours.process(denoised);
@@ -261,9 +261,9 @@ void holesRows(const MeshCase& c, const PointToMeshDistance& distance, Table& ta
 {
   const HolesCase h = punchHoles(c);
   auto start = std::chrono::steady_clock::now();
-  GeometricCloudInpainter<pcl::PointNormal> completer;
+  GeometricCloudRepair<pcl::PointNormal> completer;
   completer.setInputCloud(h.holed);
-  completer.setMode(GeometricCloudInpainter<pcl::PointNormal>::Mode::Complete);
+  completer.setMode(GeometricCloudRepair<pcl::PointNormal>::Mode::Complete);
   pcl::PointCloud<pcl::PointNormal> completed;
   completer.process(completed);
   std::vector<Eigen::Vector3d> out, added;

@@ -10,7 +10,7 @@
 // milliseconds of frames 2..N, each stage's median (building the image on the model, denoising,
 // filling, writing the output cloud), the first frame's, and the memory bound: the time to copy the
 // frame's input and output clouds once (the least any repair that reads and writes them can take).
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 
 #include <pcl/io/pcd_io.h>
 
@@ -31,7 +31,7 @@
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using Inpainter = pcl::patchdict::GeometricCloudInpainter<pcl::PointXYZ, pcl::PointXYZ>;
+using Inpainter = pcl::patchdict::GeometricCloudRepair<pcl::PointXYZ, pcl::PointXYZ>;
 
 double ms(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
 

@@ -1,6 +1,6 @@
 // cloud_pipeline IN.pcd OUT.ply — a noisy scan to a watertight mesh: statistical outlier removal →
-// patch denoising with oriented normals (GeometricCloudInpainter) → Poisson → PLY.
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+// patch denoising with oriented normals (GeometricCloudRepair) → Poisson → PLY.
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 
 #include <pcl/filters/statistical_outlier_removal.h>
 #include <pcl/io/pcd_io.h>
@@ -33,7 +33,7 @@ int main(int argc, char** argv)
     sor.filter(*filtered);
 
     // 2. Noise: each point moves onto its local height-field patch; PointNormal out: oriented normals.
-    pcl::patchdict::GeometricCloudInpainter<pcl::PointXYZ, pcl::PointNormal> denoiser;
+    pcl::patchdict::GeometricCloudRepair<pcl::PointXYZ, pcl::PointNormal> denoiser;
     denoiser.setInputCloud(filtered);
     denoiser.setOutlierFilter(false);  // the SOR above did it
     auto denoised = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
@@ -49,7 +49,7 @@ int main(int argc, char** argv)
       throw std::runtime_error("Poisson reconstruction gave no triangles");
     if (pcl::io::savePLYFileBinary(argv[2], mesh) < 0)
       throw std::runtime_error(std::string("cannot write ") + argv[2]);
-    const pcl::patchdict::CloudDenoisingReport& r = denoiser.getReport();
+    const pcl::patchdict::CloudRepairReport& r = denoiser.getReport();
     std::printf("points in %zu, after SOR %zu, out %zu (noise sigma %.3g, bandwidth %.3g); triangles %zu -> %s\n",
                 cloud->size(), filtered->size(), r.output_points, r.noise_sigma, r.bandwidth, mesh.polygons.size(), argv[2]);
     return 0;

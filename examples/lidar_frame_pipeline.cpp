@@ -7,7 +7,7 @@
 // surface are filled in place, on their own rays: the grid (beams × azimuth) and every field stay.
 // The last repaired frame is written to OUT.pcd; a mapper would then take its finite points.
 #define PCL_NO_PRECOMPILE  // our own point type: the library's templates are compiled here for it
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 
 #include <pcl/filters/filter.h>
 #include <pcl/io/pcd_io.h>
@@ -37,7 +37,7 @@ int main(int argc, char** argv)
     std::fprintf(stderr, "usage: %s OUT.pcd FRAME.pcd [FRAME.pcd ...]\n", argv[0]);
     return 2;
   }
-  using Repair = pcl::patchdict::GeometricCloudInpainter<OusterPoint>;
+  using Repair = pcl::patchdict::GeometricCloudRepair<OusterPoint>;
   try {
     Repair repair;
     repair.setMode(Repair::Mode::DenoiseAndComplete);

@@ -1,6 +1,6 @@
 // organized_frame_pipeline IN.pcd OUT.pcd — a robot's depth frame, repaired and consumed as a robot
-// pipeline would: fill and denoise in place (GeometricCloudInpainter), then PCL's organised normals.
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+// pipeline would: fill and denoise in place (GeometricCloudRepair), then PCL's organised normals.
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 
 #include <pcl/features/integral_image_normal.h>
 #include <pcl/io/pcd_io.h>
@@ -47,9 +47,9 @@ int main(int argc, char** argv)
 
     // Fill the dropouts enclosed by one surface (never the shadows at depth edges) and denoise along
     // the pixels' rays with the sensor's own noise law; width × height stay, so does every colour.
-    pcl::patchdict::GeometricCloudInpainter<pcl::PointXYZRGBA> repair;
+    pcl::patchdict::GeometricCloudRepair<pcl::PointXYZRGBA> repair;
     repair.setInputCloud(frame);
-    repair.setMode(pcl::patchdict::GeometricCloudInpainter<pcl::PointXYZRGBA>::Mode::DenoiseAndComplete);
+    repair.setMode(pcl::patchdict::GeometricCloudRepair<pcl::PointXYZRGBA>::Mode::DenoiseAndComplete);
     auto repaired = std::make_shared<pcl::PointCloud<pcl::PointXYZRGBA>>();
     repair.process(*repaired);
     const auto& report = repair.getReport();

@@ -1,9 +1,9 @@
-// detail::denoiseCloud (see geometric_cloud_inpainter.h): the type-free core of
-// GeometricCloudInpainter — pre-filter, noise and bandwidth, the patches' fits, normal orientation.
+// detail::denoiseCloud (see geometric_cloud_repair.h): the type-free core of
+// GeometricCloudRepair — pre-filter, noise and bandwidth, the patches' fits, normal orientation.
 #include "cloud/denoise_cloud_stages.h"
 
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 
 #include <algorithm>
 #include <chrono>
@@ -90,7 +90,7 @@ int threadCount(int requested)
 #endif
 }
 
-void checkParameters(const CloudDenoisingParameters& p)
+void checkParameters(const CloudRepairParameters& p)
 {
   const auto bad = [](double x) { return !std::isfinite(x) || x < 0.0; };
   if (p.outlier_filter && (p.outlier_neighbours < 1 || p.outlier_neighbours > 1000 || bad(p.outlier_std)))
@@ -191,7 +191,7 @@ void filterOutliers(DenoisingRun& run, const std::vector<double>& mean_distance)
 void prefilter(DenoisingRun& run)
 {
   const std::size_t nq = run.nq;
-  CloudDenoisingReport& report = run.report;
+  CloudRepairReport& report = run.report;
   run.usable.assign(run.points.size(), 0);
   for (std::size_t i = 0; i < run.points.size(); ++i)
     run.usable[i] = run.points[i].allFinite() ? 1 : 0;
@@ -224,7 +224,7 @@ void prefilter(DenoisingRun& run)
 /// and four times h.
 std::vector<LocalQuadricFit> fitKeptPoints(DenoisingRun& run)
 {
-  CloudDenoisingReport& report = run.report;
+  CloudRepairReport& report = run.report;
   run.fit_parameters.bandwidth = report.bandwidth;
   run.fit_parameters.want_leverage = false;
   run.fit_parameters.want_loo_residual = true;  // the residual-outlier test
@@ -265,7 +265,7 @@ std::vector<LocalQuadricFit> fitKeptPoints(DenoisingRun& run)
 void projectKeptPoints(DenoisingRun& run, std::vector<char>& kept, std::vector<Eigen::Vector3d>& out_positions,
                        std::vector<Eigen::Vector3d>& out_normals)
 {
-  CloudDenoisingReport& report = run.report;
+  CloudRepairReport& report = run.report;
   const std::vector<LocalQuadricFit> fits = fitKeptPoints(run);
   // Residuals of clean samples of a curved or faceted surface are bias, heavy-tailed, not noise:
   // a point is only an outlier beyond two spacings, whatever σ (a clean boot cloud lost 632 of
@@ -299,10 +299,10 @@ namespace detail {
 
 void denoiseCloud(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals,
                   const std::vector<std::size_t>& queries, const KnnSearch& knn,
-                  const RadiusNeighbourSearch& radius, const CloudDenoisingParameters& parameters,
+                  const RadiusNeighbourSearch& radius, const CloudRepairParameters& parameters,
                   bool want_normals, const Eigen::Vector3d* viewpoint, std::vector<char>& kept,
                   std::vector<Eigen::Vector3d>& out_positions, std::vector<Eigen::Vector3d>& out_normals,
-                  CloudDenoisingReport& report, const PointScales* scales)
+                  CloudRepairReport& report, const PointScales* scales)
 {
   checkParameters(parameters);
   if (!normals.empty() && normals.size() != points.size())

@@ -34,7 +34,7 @@ void chooseSample(DenoisingRun& run)
 
 void estimateNoiseSigma(DenoisingRun& run)
 {
-  CloudDenoisingReport& report = run.report;
+  CloudRepairReport& report = run.report;
   if (run.scales) {
     std::vector<double> sigmas;
     sigmas.reserve(run.kept_queries.size());
@@ -84,7 +84,7 @@ void measureNoiseCorrelation(const DenoisingRun& run, std::vector<std::vector<st
                              std::vector<double>& rho)
 {
   const std::vector<std::size_t>& sample = run.sample;
-  const CloudDenoisingParameters& parameters = run.parameters;
+  const CloudRepairParameters& parameters = run.parameters;
   const double widest = *std::max_element(parameters.bandwidth_candidates.begin(), parameters.bandwidth_candidates.end());
   std::vector<double> pilot_h(sample.size());
   for (std::size_t j = 0; j < sample.size(); ++j)
@@ -154,8 +154,8 @@ void measureNoiseCorrelation(const DenoisingRun& run, std::vector<std::vector<st
 /// back by the median σ² for the report; h_i = factor × s_i.
 void chooseBandwidth(DenoisingRun& run)
 {
-  const CloudDenoisingParameters& parameters = run.parameters;
-  CloudDenoisingReport& report = run.report;
+  const CloudRepairParameters& parameters = run.parameters;
+  CloudRepairReport& report = run.report;
   const std::vector<std::size_t>& sample = run.sample;
   const double sigma = run.sigma;
   double best = std::numeric_limits<double>::infinity();
@@ -220,7 +220,7 @@ void chooseBandwidth(DenoisingRun& run)
 /// The bandwidth of every kept point (depth law) and its limit of the residual-outlier test.
 void pointBandwidths(DenoisingRun& run)
 {
-  CloudDenoisingReport& report = run.report;
+  CloudRepairReport& report = run.report;
   if (!run.scales) {
     report.bandwidth_factor = report.bandwidth / run.s;
     return;

@@ -4,7 +4,7 @@
 #pragma once
 
 #include <pcl_patchdict/cloud/local_quadric_projection.h>
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 
 #include <Eigen/Core>
 
@@ -35,8 +35,8 @@ LocalQuadricParameters capped(LocalQuadricParameters p, double factor, int max_n
 struct DenoisingRun {
   DenoisingRun(const std::vector<Eigen::Vector3d>& points_, const std::vector<std::size_t>& queries_,
                const detail::KnnSearch& knn_, const RadiusNeighbourSearch& radius_,
-               const CloudDenoisingParameters& parameters_, const detail::PointScales* scales_,
-               CloudDenoisingReport& report_)
+               const CloudRepairParameters& parameters_, const detail::PointScales* scales_,
+               CloudRepairReport& report_)
       : points(points_), queries(queries_), knn(knn_), radius(radius_), parameters(parameters_), scales(scales_),
         report(report_)
   {
@@ -46,9 +46,9 @@ struct DenoisingRun {
   const std::vector<std::size_t>& queries;
   const detail::KnnSearch& knn;
   const RadiusNeighbourSearch& radius;
-  const CloudDenoisingParameters& parameters;
+  const CloudRepairParameters& parameters;
   const detail::PointScales* scales;
-  CloudDenoisingReport& report;
+  CloudRepairReport& report;
   int threads = 1;
   std::size_t nq = 0;
   // 1. pre-filter
@@ -81,7 +81,7 @@ struct Orientation {
   const std::vector<char>& kept;
   const std::vector<Eigen::Vector3d>& positions;
   std::vector<Eigen::Vector3d>& out_normals;
-  CloudDenoisingReport& report;
+  CloudRepairReport& report;
 };
 
 /// 4. Each kept point's normal oriented: towards its input normal or the viewpoint, and from its

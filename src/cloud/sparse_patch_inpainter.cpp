@@ -1,5 +1,5 @@
 // SparsePatchInpainter: the explicit instantiations for PCL's common point types (the same pairs
-// as GeometricCloudInpainter, its base).
+// as GeometricCloudRepair, its base).
 #include <pcl_patchdict/cloud/impl/sparse_patch_inpainter.hpp>
 #include <pcl_patchdict/cloud/sparse_patch_inpainter.h>
 

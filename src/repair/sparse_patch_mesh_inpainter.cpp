@@ -8,8 +8,8 @@ namespace patchdict {
 
 void SparsePatchMeshInpainter::setDictionary(const PatchDictionary::ConstPtr& dictionary)
 {
-  holes_.dictionary = dictionary;
-  denoise_.dictionary = dictionary;
+  hole_options_.dictionary = dictionary;
+  denoise_options_.dictionary = dictionary;
   missing_options_.dictionary = dictionary;
 }
 
@@ -19,10 +19,10 @@ void SparsePatchMeshInpainter::performProcessing(pcl::PolygonMesh& output)
   fromPolygonMesh(*input_mesh_, input);
   switch (mode_) {
   case Mode::FillHoles:
-    fillHolesWithPatches(input, repaired, holes_, &hole_report_);
+    fillHolesWithPatches(input, repaired, hole_options_, &hole_report_);
     break;
   case Mode::Denoise:
-    denoiseWithPatches(input, repaired, denoise_, &denoise_report_);
+    denoiseWithPatches(input, repaired, denoise_options_, &denoise_report_);
     break;
   case Mode::FillMissingVertices:
     fillMissingVertices(input, missing_, repaired, missing_options_, &missing_report_);

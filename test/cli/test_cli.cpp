@@ -47,7 +47,7 @@ TEST(Cli, DocsMatchTheOptionTable)
 TEST(Cli, EveryCommandHasHelp)
 {
   for (const char* command : {"demo", "info", "eval", "quads", "patches", "learn", "reconstruct", "compress",
-                              "decompress", "denoise", "inpaint", "fill-holes"}) {
+                              "decompress", "denoise", "fill-missing", "fill-holes"}) {
     const auto result = runTool(std::string(command) + " --help");
     EXPECT_EQ(result.exit_code, 0) << command << "\n" << result.err;
     EXPECT_EQ(result.out.find("usage: pcl_patchdict " + std::string(command)), 0u) << result.out;

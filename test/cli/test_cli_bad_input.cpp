@@ -217,7 +217,7 @@ TEST(CliBadInput, BrokenMeshFilesInEverySubcommand)
       "reconstruct % -o {}/out.ply",
       "compress % --dict {}/dict16.pdd -o {}/out.pdc",
       "denoise % -o {}/out.ply",
-      "inpaint % --missing {}/missing.txt --no-patches -o {}/out.ply",
+      "fill-missing % --missing {}/missing.txt --no-patches -o {}/out.ply",
       "fill-holes % --no-patches -o {}/out.ply",
       "fill-holes % --dict {}/dict16.pdd -o {}/out.ply",
   };
@@ -245,7 +245,7 @@ TEST(CliBadInput, IndexFiles)
            {"idx_nul.txt", "not an integer"},
            {"absent.txt", "no such file"},
            {"garbage.pdc", "line"}}) {
-    cases.push_back({"inpaint {}/sphere.ply --missing {}/" + name + " --no-patches -o {}/out.ply", 1, says});
+    cases.push_back({"fill-missing {}/sphere.ply --missing {}/" + name + " --no-patches -o {}/out.ply", 1, says});
     cases.push_back({"eval {}/sphere.ply {}/sphere.obj --vertices {}/" + name, 1, says});
   }
   expectCleanRefusals(fixtures, cases);
@@ -270,7 +270,7 @@ TEST(CliBadInput, OptionValuesOutOfRange)
       {"fill-holes " + in + out + " --surface bumpy", 2, "--surface"},
       {"fill-holes " + in + out + " --sparsity 0", 2, "--sparsity"},
       {"fill-holes " + in + out + " --quad-factor 0", 2, "--quad-factor"},
-      {"inpaint " + in + " --missing {}/missing.txt" + out + " --mu -3", 2, "--mu"},
+      {"fill-missing " + in + " --missing {}/missing.txt" + out + " --mu -3", 2, "--mu"},
       {"compress " + in + " --dict {}/dict16.pdd -o {}/out.pdc --coefficient-bits 0", 2, "--coefficient-bits"},
       {"compress " + in + " --dict {}/dict16.pdd -o {}/out.pdc --coefficient-bits 40", 2, "--coefficient-bits"},
       {"compress " + in + " --dict {}/dict16.pdd -o {}/out.pdc --position-bits 99", 2, "--position-bits"},
@@ -315,7 +315,7 @@ TEST(CliBadInput, WrongAndBrokenDictionaries)
   expectCleanRefusals(fixtures, {
       // The repair commands take the grid from the dictionary unless --grid asks for another.
       {"fill-holes " + in + out + " --dict {}/dict6.pdd --grid 8", 1, "6×6"},
-      {"inpaint " + in + " --missing {}/missing.txt --dict {}/dict6.pdd --grid 8" + out, 1, "6×6"},
+      {"fill-missing " + in + " --missing {}/missing.txt --dict {}/dict6.pdd --grid 8" + out, 1, "6×6"},
       {"denoise " + in + out + " --dict {}/dict6.pdd --grid 8", 1, "6×6"},
       {"reconstruct " + in + out + " --dict {}/dict6.pdd", 1, "6×6"},
       {"fill-holes " + in + out + " --dict {}/garbage.pdd", 1, "not a .pdd file"},
@@ -340,7 +340,7 @@ TEST(CliBadInput, OutputPaths)
   const std::string in = "{}/sphere.ply";
   std::vector<BadCase> cases;
   for (const std::string& command : {"denoise " + in, "fill-holes " + in + " --no-patches",
-                                     "inpaint " + in + " --missing {}/missing.txt --no-patches",
+                                     "fill-missing " + in + " --missing {}/missing.txt --no-patches",
                                      "reconstruct " + in}) {
     cases.push_back({command + " -o {}/no/such/folder/out.ply", 1, "does not exist"});
     cases.push_back({command + " -o " + in, 1, "input"});
@@ -429,7 +429,7 @@ TEST(CliBadInput, OddButValidMeshesAreProcessedOrRefusedCleanly)
   test_support::writeFile(dir.file("missing.txt"), "0\n1\n");
   const std::vector<std::string> commands{
       "info %", "eval % %", "quads % -o OUT.obj", "denoise % -o OUT.ply",
-      "fill-holes % --no-patches -o OUT.ply", "inpaint % --missing " + q(dir.file("missing.txt")) + " --no-patches -o OUT.ply"};
+      "fill-holes % --no-patches -o OUT.ply", "fill-missing % --missing " + q(dir.file("missing.txt")) + " --no-patches -o OUT.ply"};
   for (const auto& [name, mesh] : oddMeshes()) {
     const std::string input = dir.file(name + ".ply");
     writeMesh(input, mesh);
@@ -453,7 +453,7 @@ TEST(CliBadInput, OddButValidMeshesAreProcessedOrRefusedCleanly)
       // Only a lone triangle may be refused: too small for a quad layout, and with two of its three
       // vertices missing nothing is left to interpolate from. Everything else must be processed.
       const bool may_refuse =
-          name == "single_triangle" && (command.rfind("quads", 0) == 0 || command.rfind("inpaint", 0) == 0);
+          name == "single_triangle" && (command.rfind("quads", 0) == 0 || command.rfind("fill-missing", 0) == 0);
       if (!may_refuse) {
         EXPECT_EQ(result.exit_code, 0);
       }
@@ -510,16 +510,16 @@ TEST(CliBadInput, IgnoredAndContradictoryOptions)
   expectCleanRefusals(fixtures, {
       // --grid 0 was "the dictionary's" by accident of the range; explicit grids are 2-256.
       {"denoise " + in + out + " --grid 0 --self-similar", 2, "--grid"},
-      {"inpaint " + in + " --missing {}/missing.txt" + out + " --grid 1", 2, "--grid"},
+      {"fill-missing " + in + " --missing {}/missing.txt" + out + " --grid 1", 2, "--grid"},
       // Patch-stage options when no patch stage runs.
       {"denoise " + in + out + " --grid 8", 2, "--grid tunes the patch stage"},
       {"denoise " + in + out + " --sparsity 4", 2, "--sparsity tunes the patch stage"},
       {"denoise " + in + out + " --no-patches --fidelity 0.5", 2, "--fidelity tunes the patch stage"},
       {"fill-holes " + in + out + " --no-patches --quad-length 0.05", 2, "--quad-length tunes the patch stage"},
       {"fill-holes " + in + out + " --no-patches --surface relief", 2, "--surface tunes the patch stage"},
-      {"inpaint " + in + " --missing {}/missing.txt" + out + " --no-patches --mu 1", 2, "--mu tunes the patch stage"},
+      {"fill-missing " + in + " --missing {}/missing.txt" + out + " --no-patches --mu 1", 2, "--mu tunes the patch stage"},
       // A dictionary brings its own atoms.
-      {"inpaint " + in + " --missing {}/missing.txt" + out + " --dict {}/dict16.pdd --atoms 10", 2, "--atoms"},
+      {"fill-missing " + in + " --missing {}/missing.txt" + out + " --dict {}/dict16.pdd --atoms 10", 2, "--atoms"},
       // Options that only mean something with another.
       {"fill-holes " + in + out + " --report {}/report --error-scale 0.1", 2, "--error-scale needs --ref"},
       {"fill-holes " + in + out + " --absolute", 2, "--absolute needs --max-hole-diameter"},

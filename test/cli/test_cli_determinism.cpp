@@ -47,7 +47,7 @@ TEST(CliDeterminism, EveryWritingSubcommandGivesTheSameBytesForAnyThreadCount)
       {"denoise " + q(dir.file("noisy.ply")) + " --self-similar -o OUT", ".ply"},
       {"fill-holes " + q(dir.file("holed.ply")) + " -o OUT", ".ply"},
       {"fill-holes " + q(dir.file("holed.ply")) + " --dict " + q(dir.file("ref.pdd")) + " -o OUT", ".ply"},
-      {"inpaint " + t + " --missing " + q(dir.file("missing.txt")) + " --dict " + q(dir.file("ref.pdd")) + " -o OUT",
+      {"fill-missing " + t + " --missing " + q(dir.file("missing.txt")) + " --dict " + q(dir.file("ref.pdd")) + " -o OUT",
        ".ply"},
   };
   for (const Step& step : steps) {

@@ -6,7 +6,7 @@
 
 #include <pcl_patchdict/cloud/cloud_hole_completion.h>
 #include <pcl_patchdict/cloud/organized_hole_filling.h>
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 #include <pcl_patchdict/codec/patch_codec.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
 #include <pcl_patchdict/quads/patch_layout.h>
@@ -152,7 +152,7 @@ TEST(CliOptions, DefaultsAreTheLibrarys)
     EXPECT_FALSE(optionOf(command, "grid").has_default);  // the dictionary's: p.grid_size 0
     EXPECT_EQ(p.grid_size, 0);
   };
-  checkShared("inpaint", MissingVerticesOptions());
+  checkShared("fill-missing", MissingVerticesOptions());
   checkShared("fill-holes", HoleRepairOptions());
   checkShared("denoise", DenoiseOptions());
   EXPECT_EQ(realDefault("fill-holes", "hole-factor"), HoleRepairOptions().decision.quad_factor);
@@ -164,7 +164,7 @@ TEST(CliOptions, DefaultsAreTheLibrarys)
   EXPECT_EQ(realDefault("denoise", "discrepancy"), denoise.discrepancy);
   EXPECT_EQ(realDefault("denoise", "quad-factor"), denoise.quad_length_factor);
   EXPECT_EQ(intDefault("denoise", "sparsity"), denoise.sparsity);
-  EXPECT_EQ(realDefault("inpaint", "mu"), MissingVerticesOptions().constraint_weight);
+  EXPECT_EQ(realDefault("fill-missing", "mu"), MissingVerticesOptions().constraint_weight);
   EXPECT_EQ(realDefault("fill-holes", "mu"), HoleRepairOptions().constraint_weight);
   EXPECT_EQ(realDefault("fill-holes", "fit-scale"), HoleRepairOptions().fit_scale);
 
@@ -200,7 +200,7 @@ TEST(CliOptions, DefaultsAreTheLibrarys)
   EXPECT_EQ(optionOf("learn", "iterations").note, "20 (ksvd), 3 (online)");  // computed in cmd_learn.cpp
   EXPECT_EQ(learning.iterations, 20);
 
-  const CloudDenoisingParameters cloud;
+  const CloudRepairParameters cloud;
   const CloudCompletionParameters completion;
   const OrganizedFillParameters organized;
   for (const char* command : {"denoise", "fill-holes"}) {

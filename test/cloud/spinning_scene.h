@@ -3,7 +3,7 @@
 // with a box, its ranges noisy (σ = 1 cm, optionally stored in 8 mm steps), with the truth kept.
 #pragma once
 
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 #include <pcl_patchdict/cloud/range_image.h>
 #include <pcl_patchdict/cloud/range_image_repair.h>
 #include <pcl_patchdict/cloud/sensor_model.h>

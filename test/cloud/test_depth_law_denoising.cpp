@@ -2,7 +2,7 @@
 // a tilted plane seen from 1 to 2.6 m with σ(z) = a·z² along the view, white or correlated between
 // neighbouring pixels; known answers on the per-point σ and h, the risk's correlation, outliers.
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 
 #include <pcl/search/kdtree.h>
 
@@ -84,10 +84,10 @@ Frame makeFrame(bool correlated, std::size_t spikes, unsigned seed)
 struct Result {
   std::vector<char> kept;
   std::vector<Eigen::Vector3d> positions, normals;
-  CloudDenoisingReport report;
+  CloudRepairReport report;
 };
 
-Result denoise(const Frame& frame, const CloudDenoisingParameters& parameters, bool with_scales)
+Result denoise(const Frame& frame, const CloudRepairParameters& parameters, bool with_scales)
 {
   auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
   for (const auto& p : frame.points)
@@ -133,9 +133,9 @@ double relativeError(const Frame& frame, const Result& result, std::size_t r0, s
 TEST(DepthLawDenoising, PerPointSigmaAndSpacingSmoothNearAndFarAlike)
 {
   const Frame frame = makeFrame(false, 0, 7);
-  CloudDenoisingParameters parameters;
+  CloudRepairParameters parameters;
   const Result result = denoise(frame, parameters, true);
-  const CloudDenoisingReport& report = result.report;
+  const CloudRepairReport& report = result.report;
   EXPECT_TRUE(report.depth_law);
   EXPECT_FALSE(report.noise_estimated);
   // σ reported: the median σ_i; h: the median h_i = factor × s_i.
@@ -160,7 +160,7 @@ TEST(DepthLawDenoising, PerPointSigmaAndSpacingSmoothNearAndFarAlike)
 
 TEST(DepthLawDenoising, CorrelatedNoiseIsMeasuredAndWeighsInTheRisk)
 {
-  CloudDenoisingParameters parameters;
+  CloudRepairParameters parameters;
   const Result white = denoise(makeFrame(false, 0, 11), parameters, true);
   const Frame frame = makeFrame(true, 0, 11);
   const Result correlated = denoise(frame, parameters, true);
@@ -175,7 +175,7 @@ TEST(DepthLawDenoising, CorrelatedNoiseIsMeasuredAndWeighsInTheRisk)
 TEST(DepthLawDenoising, ResidualOutliersAreJudgedByTheirOwnSigma)
 {
   const Frame frame = makeFrame(false, 40, 3);
-  CloudDenoisingParameters parameters;
+  CloudRepairParameters parameters;
   parameters.outlier_filter = false;  // the residual test alone
   const Result result = denoise(frame, parameters, true);
   std::size_t spikes_kept = 0;
@@ -190,21 +190,21 @@ TEST(DepthLawDenoising, ResidualOutliersAreJudgedByTheirOwnSigma)
 TEST(DepthLawDenoising, GivenSigmaOverridesTheLawAndBadScalesAreRefused)
 {
   Frame frame = makeFrame(false, 0, 5);
-  CloudDenoisingParameters parameters;
+  CloudRepairParameters parameters;
   parameters.noise_sigma = 0.004;
   parameters.bandwidth_candidates = {3.0};
   const Result result = denoise(frame, parameters, true);
   EXPECT_DOUBLE_EQ(result.report.noise_sigma, 0.004);
   EXPECT_DOUBLE_EQ(result.report.bandwidth_factor, 3.0);
   // Without scales: the global path (σ estimated from the residuals, no depth law).
-  const Result global = denoise(frame, CloudDenoisingParameters{}, false);
+  const Result global = denoise(frame, CloudRepairParameters{}, false);
   EXPECT_FALSE(global.report.depth_law);
   EXPECT_TRUE(global.report.noise_estimated);
   EXPECT_TRUE(global.report.noise_correlation.empty());
   frame.scales.sigma.pop_back();
-  EXPECT_THROW(denoise(frame, CloudDenoisingParameters{}, true), Error);
+  EXPECT_THROW(denoise(frame, CloudRepairParameters{}, true), Error);
   frame.scales.sigma.push_back(0.0);
-  EXPECT_THROW(denoise(frame, CloudDenoisingParameters{}, true), Error);
+  EXPECT_THROW(denoise(frame, CloudRepairParameters{}, true), Error);
 }
 
 }  // namespace patchdict

@@ -1,9 +1,9 @@
-// GeometricCloudInpainter on organised frames (a depth image: filled in place, points on their
+// GeometricCloudRepair on organised frames (a depth image: filled in place, points on their
 // rays, width × height kept) and on hostile clouds (one point, wild depths, copies), class and tool.
 #include "test_support.h"
 
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 
 #include <pcl/io/pcd_io.h>
 
@@ -15,7 +15,7 @@
 
 namespace {
 
-using pcl::patchdict::GeometricCloudInpainter;
+using pcl::patchdict::GeometricCloudRepair;
 using test_support::q;
 using test_support::runTool;
 using test_support::SyntheticFrame;
@@ -42,7 +42,7 @@ pcl::PointCloud<pcl::PointXYZRGB>::Ptr kinectLikeFrame(SyntheticFrame& frame)
   return cloud;
 }
 
-using Inpainter = GeometricCloudInpainter<pcl::PointXYZRGB>;
+using Inpainter = GeometricCloudRepair<pcl::PointXYZRGB>;
 
 // Runs `inpainter` into `out` and checks that the frame went the depth-image way and kept its
 // 160 × 120 grid (call it under ASSERT_NO_FATAL_FAILURE).
@@ -180,9 +180,9 @@ TEST(OrganizedCloudRepair, Float32TerrainFarFromTheOriginIsFilledWhereItIs)
       p.z = static_cast<float>(100.0 + 0.05 * u + 0.02 * v);
       cloud->push_back(p);
     }
-  GeometricCloudInpainter<pcl::PointXYZ> inpainter;
+  GeometricCloudRepair<pcl::PointXYZ> inpainter;
   inpainter.setInputCloud(cloud);
-  inpainter.setMode(GeometricCloudInpainter<pcl::PointXYZ>::Mode::Complete);
+  inpainter.setMode(GeometricCloudRepair<pcl::PointXYZ>::Mode::Complete);
   pcl::PointCloud<pcl::PointXYZ> out;
   inpainter.process(out);
   EXPECT_TRUE(inpainter.getReport().height_field_used);

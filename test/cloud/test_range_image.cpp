@@ -4,7 +4,7 @@
 #include "test_support.h"
 #include "cloud/spinning_scene.h"
 
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 #include <pcl_patchdict/cloud/range_image.h>
 #include <pcl_patchdict/cloud/range_image_repair.h>
 #include <pcl_patchdict/cloud/sensor_model.h>

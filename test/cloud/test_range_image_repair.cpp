@@ -1,10 +1,10 @@
 // Spinning-LiDAR repairs (range_image_repair.h) on a synthetic Ouster-like sensor
 // (cloud/spinning_scene.h): the fill of dropouts, the denoising along the beams, and the
-// GeometricCloudInpainter's spinning path on pcl::PointXYZI frames, checked against the truth.
+// GeometricCloudRepair's spinning path on pcl::PointXYZI frames, checked against the truth.
 #include "test_support.h"
 #include "cloud/spinning_scene.h"
 
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 #include <pcl_patchdict/cloud/range_image.h>
 #include <pcl_patchdict/cloud/range_image_repair.h>
 #include <pcl_patchdict/cloud/sensor_model.h>
@@ -304,9 +304,9 @@ TEST(RangeImageDenoising, RejectsAMissingNoiseLawAndBadParameters)
 }
 
 // ---------------------------------------------------------------------------------------------------
-// GeometricCloudInpainter<pcl::PointXYZI> on spinning-LiDAR frames
+// GeometricCloudRepair<pcl::PointXYZI> on spinning-LiDAR frames
 
-using Inpainter = pcl::patchdict::GeometricCloudInpainter<pcl::PointXYZI>;
+using Inpainter = pcl::patchdict::GeometricCloudRepair<pcl::PointXYZI>;
 
 /** The scan as an organised cloud (width = columns, height = beams); intensity 100 where measured,
   * 0 where not. */

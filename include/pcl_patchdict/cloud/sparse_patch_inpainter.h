@@ -3,7 +3,7 @@
 #pragma once
 
 #include <pcl_patchdict/cloud/cloud_patch_correction.h>
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 
 #include <pcl/point_cloud.h>
 #include <pcl/surface/processing.h>
@@ -16,8 +16,8 @@ namespace patchdict {
 /** \brief Repairs a point cloud as Sarkar et al. (2017) repair a mesh: geometry is the base, the
   * patches its correction, applied only where they are measured to help.
   *
-  *  1. The base is a GeometricCloudInpainter (local quadrics, spline and implicit fills, depth
-  *     images; getGeometricInpainter() sets it up): it denoises, and in the Complete modes adds
+  *  1. The base is a GeometricCloudRepair (local quadrics, spline and implicit fills, depth
+  *     images; getGeometricRepair() sets it up): it denoises, and in the Complete modes adds
   *     points in the holes at the input's density.
   *  2. Unorganised clouds, Denoise modes: denoiseCloudWithPatches moves the base's points onto
   *     patches binned from the points as measured and sparse-coded to the noise level, when the
@@ -38,7 +38,7 @@ class SparsePatchInpainter : public pcl::CloudSurfaceProcessing<PointInT, PointO
 public:
   using Ptr = std::shared_ptr<SparsePatchInpainter<PointInT, PointOutT>>;
   using ConstPtr = std::shared_ptr<const SparsePatchInpainter<PointInT, PointOutT>>;
-  using Base = GeometricCloudInpainter<PointInT, PointOutT>;
+  using Base = GeometricCloudRepair<PointInT, PointOutT>;
   using Mode = typename Base::Mode;
   using PointCloudOut = pcl::PointCloud<PointOutT>;
 
@@ -47,8 +47,9 @@ public:
   void setMode(Mode mode) { base_.setMode(mode); }
   Mode getMode() const { return base_.getMode(); }
   /** The geometric base, for its settings (noise, bandwidth, hole sizes, depth images, …). */
-  Base& getGeometricInpainter() { return base_; }
-  const Base& getGeometricInpainter() const { return base_; }
+  Base& getGeometricRepair() { return base_; }
+  const Base& getGeometricRepair() const { return base_; }
+  [[deprecated("renamed getGeometricRepair")]] Base& getGeometricInpainter() { return base_; }
 
   /** The dictionary the patches are coded over (null, the default: a self-similar one). */
   void setDictionary(const PatchDictionary::ConstPtr& dictionary) { patch_options_.dictionary = dictionary; }
@@ -65,7 +66,7 @@ public:
   }
 
   /** What the base did, and what the patch stage decided and did, in the last process(). */
-  const CloudDenoisingReport& getReport() const { return base_.getReport(); }
+  const CloudRepairReport& getReport() const { return base_.getReport(); }
   const CloudPatchReport& getPatchReport() const { return patch_report_; }
   /** The patch stage of the denoising (Denoise and DenoiseAndComplete modes). */
   const CloudPatchReport& getDenoisingPatchReport() const { return denoise_report_; }

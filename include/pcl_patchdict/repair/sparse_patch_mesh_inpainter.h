@@ -18,7 +18,14 @@ namespace patchdict {
   * (setInputMesh, process(output)), with the options and reports of those functions. The output
   * is a triangle mesh with x y z fields only (other fields of the input's cloud are not carried:
   * the repairs change vertex counts and positions); its vertices in the input's units, input
-  * vertices first. Throws pcl::patchdict::Error as the functions do. */
+  * vertices first. Throws pcl::patchdict::Error as the functions do.
+  *
+  * One class with a Mode rather than three: the three repairs are one sparse-patch inpainting of a
+  * mesh with three kinds of damage (holes, noise, unknown vertices), as the cloud path's
+  * SparsePatchInpainter covers holes and noise with one class; they share the input, the dictionary
+  * and the patch stage's options type, and the mode reads as the damage. Each mode keeps its own
+  * options and report (set/getHoleRepairOptions, …), so no option of one repair reaches another;
+  * the free functions are the one-repair-per-call form. */
 class SparsePatchMeshInpainter : public pcl::MeshProcessing {
 public:
   using Ptr = std::shared_ptr<SparsePatchMeshInpainter>;
@@ -28,10 +35,10 @@ public:
 
   void setMode(Mode mode) { mode_ = mode; }
   Mode getMode() const { return mode_; }
-  void setHoleRepairOptions(const HoleRepairOptions& options) { holes_ = options; }
-  const HoleRepairOptions& getHoleRepairOptions() const { return holes_; }
-  void setDenoiseOptions(const DenoiseOptions& options) { denoise_ = options; }
-  const DenoiseOptions& getDenoiseOptions() const { return denoise_; }
+  void setHoleRepairOptions(const HoleRepairOptions& options) { hole_options_ = options; }
+  const HoleRepairOptions& getHoleRepairOptions() const { return hole_options_; }
+  void setDenoiseOptions(const DenoiseOptions& options) { denoise_options_ = options; }
+  const DenoiseOptions& getDenoiseOptions() const { return denoise_options_; }
   void setMissingVerticesOptions(const MissingVerticesOptions& options) { missing_options_ = options; }
   /** FillMissingVertices: the vertices whose positions are unknown. */
   void setMissingVertices(const std::vector<int>& indices) { missing_ = indices; }
@@ -48,8 +55,8 @@ protected:
 
 private:
   Mode mode_ = Mode::FillHoles;
-  HoleRepairOptions holes_;
-  DenoiseOptions denoise_;
+  HoleRepairOptions hole_options_;
+  DenoiseOptions denoise_options_;
   MissingVerticesOptions missing_options_;
   std::vector<int> missing_;
   HoleRepairReport hole_report_;

@@ -14,9 +14,9 @@ namespace detail {
 /** The base's estimated mean squared height error at the bandwidth it chose: Stein's unbiased form
   * (mean squared residual − σ² + 2σ²·mean leverage) of its risk sample; 0 when it made none (a
   * given bandwidth, the depth law). */
-inline double baseRisk(const CloudDenoisingReport& report)
+inline double baseRisk(const CloudRepairReport& report)
 {
-  const CloudDenoisingReport::BandwidthRisk* chosen = nullptr;
+  const CloudRepairReport::BandwidthRisk* chosen = nullptr;
   for (const auto& candidate : report.bandwidth_risks)
     if (!chosen || std::abs(candidate.factor - report.bandwidth_factor) < std::abs(chosen->factor - report.bandwidth_factor))
       chosen = &candidate;
@@ -34,7 +34,7 @@ void SparsePatchInpainter<PointInT, PointOutT>::performProcessing(PointCloudOut&
   base_.setInputCloud(input_);
   base_.setIndices(indices_);
   base_.process(output);
-  const CloudDenoisingReport& report = base_.getReport();
+  const CloudRepairReport& report = base_.getReport();
   if (report.depth_image || report.range_image || output.height > 1) {
     patch_report_.reason = denoise_report_.reason =
         report.range_image ? "a spinning LiDAR's range image, repaired along its beams"

@@ -1,9 +1,9 @@
-// GeometricCloudInpainter<PointInT, PointOutT>: the spinning-LiDAR path (processRangeImage) and the
-// frames processed on a given sensor model (see geometric_cloud_inpainter.h).
+// GeometricCloudRepair<PointInT, PointOutT>: the spinning-LiDAR path (processRangeImage) and the
+// frames processed on a given sensor model (see geometric_cloud_repair.h).
 #pragma once
 
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 
 #include <algorithm>
 #include <chrono>
@@ -52,7 +52,7 @@ inline double medianRange(const RangeImage& image)
 }  // namespace detail
 
 template <typename PointInT, typename PointOutT>
-bool GeometricCloudInpainter<PointInT, PointOutT>::processAsRangeImage(const detail::CloudRun& run,
+bool GeometricCloudRepair<PointInT, PointOutT>::processAsRangeImage(const detail::CloudRun& run,
                                                                         PointCloudOut& output)
 {
   const PointCloudIn& input = *input_;
@@ -89,7 +89,7 @@ bool GeometricCloudInpainter<PointInT, PointOutT>::processAsRangeImage(const det
 }
 
 template <typename PointInT, typename PointOutT>
-bool GeometricCloudInpainter<PointInT, PointOutT>::processOnSensorModel(const detail::CloudRun& run,
+bool GeometricCloudRepair<PointInT, PointOutT>::processOnSensorModel(const detail::CloudRun& run,
                                                                          PointCloudOut& output)
 {
   const PointCloudIn& input = *input_;
@@ -128,7 +128,7 @@ bool GeometricCloudInpainter<PointInT, PointOutT>::processOnSensorModel(const de
 }
 
 template <typename PointInT, typename PointOutT>
-void GeometricCloudInpainter<PointInT, PointOutT>::processRangeImage(const std::vector<Eigen::Vector3d>& points,
+void GeometricCloudRepair<PointInT, PointOutT>::processRangeImage(const std::vector<Eigen::Vector3d>& points,
                                                                       const RangeImage& image,
                                                                       const RangeNoiseModel& noise,
                                                                       const Eigen::Matrix3d& R, const Eigen::Vector3d& o,
@@ -205,7 +205,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::processRangeImage(const std::
 }
 
 template <typename PointInT, typename PointOutT>
-void GeometricCloudInpainter<PointInT, PointOutT>::interpolateFilledIntensity(const detail::DepthRun& run, bool wraps,
+void GeometricCloudRepair<PointInT, PointOutT>::interpolateFilledIntensity(const detail::DepthRun& run, bool wraps,
                                                                                PointCloudOut& output) const
 {
   if constexpr (pcl::traits::has_intensity_v<PointOutT>) {

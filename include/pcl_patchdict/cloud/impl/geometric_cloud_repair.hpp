@@ -1,11 +1,11 @@
-// GeometricCloudInpainter<PointInT, PointOutT> (see geometric_cloud_inpainter.h): the typed
+// GeometricCloudRepair<PointInT, PointOutT> (see geometric_cloud_repair.h): the typed
 // shell around detail::denoiseCloud — point fields in and out, the search, organisation; the
-// organised paths in geometric_cloud_inpainter_depth_image.hpp (pinhole) and _range_image.hpp (spinning).
+// organised paths in geometric_cloud_repair_depth_image.hpp (pinhole) and _range_image.hpp (spinning).
 #pragma once
 
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/cloud/gross_outliers.h>
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 
 #include <pcl/common/copy_point.h>
 #include <pcl/point_traits.h>
@@ -60,9 +60,9 @@ struct FramedPoints {
 }  // namespace detail
 
 template <typename PointInT, typename PointOutT>
-void GeometricCloudInpainter<PointInT, PointOutT>::performProcessing(PointCloudOut& output)
+void GeometricCloudRepair<PointInT, PointOutT>::performProcessing(PointCloudOut& output)
 {
-  report_ = CloudDenoisingReport{};
+  report_ = CloudRepairReport{};
   kept_indices_.clear();
   added_sources_.clear();
   const PointCloudIn& input = *input_;
@@ -100,7 +100,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::performProcessing(PointCloudO
 }
 
 template <typename PointInT, typename PointOutT>
-void GeometricCloudInpainter<PointInT, PointOutT>::readInput(detail::CloudRun& run)
+void GeometricCloudRepair<PointInT, PointOutT>::readInput(detail::CloudRun& run)
 {
   const PointCloudIn& input = *input_;
   std::vector<Eigen::Vector3d>& points = run.points;
@@ -141,7 +141,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::readInput(detail::CloudRun& r
 }
 
 template <typename PointInT, typename PointOutT>
-bool GeometricCloudInpainter<PointInT, PointOutT>::processAsDepthImage(const detail::CloudRun& run,
+bool GeometricCloudRepair<PointInT, PointOutT>::processAsDepthImage(const detail::CloudRun& run,
                                                                         PointCloudOut& output)
 {
   const PointCloudIn& input = *input_;
@@ -159,7 +159,7 @@ bool GeometricCloudInpainter<PointInT, PointOutT>::processAsDepthImage(const det
 }
 
 template <typename PointInT, typename PointOutT>
-void GeometricCloudInpainter<PointInT, PointOutT>::mergeCopies(detail::CloudRun& run)
+void GeometricCloudRepair<PointInT, PointOutT>::mergeCopies(detail::CloudRun& run)
 {
   // Exact copies of a position carry nothing new and make the spacing 0: the first of each is
   // processed, the others follow it.
@@ -183,7 +183,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::mergeCopies(detail::CloudRun&
 
 template <typename PointInT, typename PointOutT>
 typename pcl::PointCloud<PointInT>::ConstPtr
-GeometricCloudInpainter<PointInT, PointOutT>::searchedCloud(const detail::CloudRun& run) const
+GeometricCloudRepair<PointInT, PointOutT>::searchedCloud(const detail::CloudRun& run) const
 {
   const PointCloudIn& input = *input_;
   const std::vector<Eigen::Vector3d>& points = run.points;
@@ -212,7 +212,7 @@ GeometricCloudInpainter<PointInT, PointOutT>::searchedCloud(const detail::CloudR
 }
 
 template <typename PointInT, typename PointOutT>
-void GeometricCloudInpainter<PointInT, PointOutT>::denoiseRun(detail::CloudRun& run, const detail::KnnSearch& knn,
+void GeometricCloudRepair<PointInT, PointOutT>::denoiseRun(detail::CloudRun& run, const detail::KnnSearch& knn,
                                                                const RadiusNeighbourSearch& radius)
 {
   const PointCloudIn& input = *input_;
@@ -250,7 +250,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::denoiseRun(detail::CloudRun& 
 }
 
 template <typename PointInT, typename PointOutT>
-void GeometricCloudInpainter<PointInT, PointOutT>::completeRun(detail::CloudRun& run)
+void GeometricCloudRepair<PointInT, PointOutT>::completeRun(detail::CloudRun& run)
 {
   std::vector<Eigen::Vector3d> surface, surface_normals;
   std::vector<std::size_t> owner;
@@ -300,7 +300,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::completeRun(detail::CloudRun&
 }
 
 template <typename PointInT, typename PointOutT>
-void GeometricCloudInpainter<PointInT, PointOutT>::followCopies(detail::CloudRun& run)
+void GeometricCloudRepair<PointInT, PointOutT>::followCopies(detail::CloudRun& run)
 {
   if (run.run_queries.size() == run.queries.size())
     return;
@@ -319,7 +319,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::followCopies(detail::CloudRun
 }
 
 template <typename PointInT, typename PointOutT>
-void GeometricCloudInpainter<PointInT, PointOutT>::writeOutput(const detail::CloudRun& run, PointCloudOut& output)
+void GeometricCloudRepair<PointInT, PointOutT>::writeOutput(const detail::CloudRun& run, PointCloudOut& output)
 {
   const PointCloudIn& input = *input_;
   const std::vector<std::size_t>& queries = run.queries;
@@ -385,7 +385,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::writeOutput(const detail::Clo
 }
 
 template <typename PointInT, typename PointOutT>
-void GeometricCloudInpainter<PointInT, PointOutT>::place(PointOutT& out, const Eigen::Vector3d& position,
+void GeometricCloudRepair<PointInT, PointOutT>::place(PointOutT& out, const Eigen::Vector3d& position,
                                                           const Eigen::Vector3d& normal)
 {
   out.x = static_cast<float>(position.x());
@@ -403,5 +403,5 @@ void GeometricCloudInpainter<PointInT, PointOutT>::place(PointOutT& out, const E
 }  // namespace patchdict
 }  // namespace pcl
 
-#include <pcl_patchdict/cloud/impl/geometric_cloud_inpainter_depth_image.hpp>
-#include <pcl_patchdict/cloud/impl/geometric_cloud_inpainter_range_image.hpp>
+#include <pcl_patchdict/cloud/impl/geometric_cloud_repair_depth_image.hpp>
+#include <pcl_patchdict/cloud/impl/geometric_cloud_repair_range_image.hpp>

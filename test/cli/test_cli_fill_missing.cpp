@@ -1,4 +1,4 @@
-// `pcl_patchdict inpaint` as a user meets it: the bi-Laplacian base (--no-patches) recovers
+// `pcl_patchdict fill-missing` (formerly `inpaint`) as a user meets it: the bi-Laplacian base (--no-patches) recovers
 // missing vertices of a plane exactly and keeps the known ones; bad input gets one error line.
 #include <pcl_patchdict/io/index_io.h>
 #include <pcl_patchdict/io/mesh_io.h>
@@ -16,7 +16,7 @@ using test_support::jsonNumber;
 using test_support::q;
 using test_support::runTool;
 
-TEST(CliInpaint, NoPatchesRecoversAPlaneAndKeepsKnownVertices)
+TEST(CliFillMissing, NoPatchesRecoversAPlaneAndKeepsKnownVertices)
 {
   test_support::TempDir dir;
   TriangleMesh plane = makePlaneGrid(30, 30, 1.0, 1.0);
@@ -36,7 +36,7 @@ TEST(CliInpaint, NoPatchesRecoversAPlaneAndKeepsKnownVertices)
   writeMesh(dir.file("holed.ply"), plane);
   writeIndexFile(dir.file("missing.txt"), missing);
   const std::string before = test_support::readFile(dir.file("holed.ply"));
-  const auto result = runTool("inpaint " + q(dir.file("holed.ply")) + " --missing " + q(dir.file("missing.txt")) +
+  const auto result = runTool("fill-missing " + q(dir.file("holed.ply")) + " --missing " + q(dir.file("missing.txt")) +
                               " --no-patches -o " + q(dir.file("out.ply")) + " --json");
   ASSERT_EQ(result.exit_code, 0) << result.err;
   TriangleMesh out;
@@ -56,22 +56,28 @@ TEST(CliInpaint, NoPatchesRecoversAPlaneAndKeepsKnownVertices)
     }
   }
   EXPECT_EQ(test_support::readFile(dir.file("holed.ply")), before);
+  // The former name still runs the same repair, to the same bytes.
+  const auto former = runTool("inpaint " + q(dir.file("holed.ply")) + " --missing " + q(dir.file("missing.txt")) +
+                              " --no-patches -o " + q(dir.file("former.ply")) + " --json");
+  ASSERT_EQ(former.exit_code, 0) << former.err;
+  EXPECT_NE(former.out.find("\"command\": \"fill-missing\""), std::string::npos) << former.out;
+  EXPECT_EQ(test_support::readFile(dir.file("former.ply")), test_support::readFile(dir.file("out.ply")));
 
   // Bad input: an index out of range, output = input, --dict with --no-patches, a missing file.
   test_support::writeFile(dir.file("bad.txt"), "5\n100000\n");
-  auto bad = runTool("inpaint " + q(dir.file("holed.ply")) + " --missing " + q(dir.file("bad.txt")) +
+  auto bad = runTool("fill-missing " + q(dir.file("holed.ply")) + " --missing " + q(dir.file("bad.txt")) +
                      " --no-patches -o " + q(dir.file("o.ply")));
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_TRUE(endsWithOneErrorLine(bad.err)) << bad.err;
-  bad = runTool("inpaint " + q(dir.file("holed.ply")) + " --missing " + q(dir.file("missing.txt")) +
+  bad = runTool("fill-missing " + q(dir.file("holed.ply")) + " --missing " + q(dir.file("missing.txt")) +
                 " --no-patches -o " + q(dir.file("holed.ply")));
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_EQ(test_support::readFile(dir.file("holed.ply")), before);
-  bad = runTool("inpaint " + q(dir.file("holed.ply")) + " --missing " + q(dir.file("missing.txt")) +
+  bad = runTool("fill-missing " + q(dir.file("holed.ply")) + " --missing " + q(dir.file("missing.txt")) +
                 " --no-patches --dict x.pdd -o " + q(dir.file("o.ply")));
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_TRUE(test_support::isOneLine(bad.err)) << bad.err;
-  bad = runTool("inpaint " + q(dir.file("nothing.ply")) + " --missing " + q(dir.file("missing.txt")) +
+  bad = runTool("fill-missing " + q(dir.file("nothing.ply")) + " --missing " + q(dir.file("missing.txt")) +
                 " --no-patches -o " + q(dir.file("o.ply")));
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_TRUE(endsWithOneErrorLine(bad.err)) << bad.err;

@@ -1,4 +1,4 @@
-// `pcl_patchdict inpaint IN --missing IDX.txt [--dict DICT.pdd | --no-patches] -o OUT`: recovers
+// `pcl_patchdict fill-missing IN --missing IDX.txt [--dict DICT.pdd | --no-patches] -o OUT`: recovers
 // the positions of missing vertices (connectivity known) — bi-Laplacian base + patch correction.
 #include "cli.h"
 #include "options.h"
@@ -15,9 +15,9 @@ namespace pcl {
 namespace patchdict {
 namespace cli {
 
-int runInpaint(const std::vector<std::string>& raw)
+int runFillMissing(const std::vector<std::string>& raw)
 {
-  const RepairCommandLine line = parseRepairCommand(raw, commandSpec("inpaint"), true);
+  const RepairCommandLine line = parseRepairCommand(raw, commandSpec("fill-missing"), true);
   const Arguments& args = line.args;
   const bool quiet = line.quiet;
   const std::string& in_path = line.in_path;
@@ -26,11 +26,11 @@ int runInpaint(const std::vector<std::string>& raw)
   readRepairOptions(args, parameters);
   parameters.constraint_weight = args.getDouble("mu");
   StageTimer timer(quiet);
-  const RepairInputs inputs = loadRepairInputs(line, parameters.grid_size, "inpaint", timer);
+  const RepairInputs inputs = loadRepairInputs(line, parameters.grid_size, "fill-missing", timer);
   const TriangleMesh& mesh = inputs.mesh;
   const std::vector<int> missing = readIndexFile(args.get("missing"), mesh.numVertices());
 
-  timer.start("inpaint");
+  timer.start("fill");
   setPatchSource(parameters, inputs.dictionary, !args.has("no-patches"));
   TriangleMesh repaired;
   MissingVerticesReport report;
@@ -46,7 +46,7 @@ int runInpaint(const std::vector<std::string>& raw)
     note(quiet, patchStageSummary(report.patches));
   if (args.has("json")) {
     JsonObject json;
-    json.add("command", "inpaint").add("input", in_path).add("output", out_path);
+    json.add("command", "fill-missing").add("input", in_path).add("output", out_path);
     json.add("vertices", mesh.numVertices()).add("faces", mesh.numFaces());
     json.add("missing_vertices", report.missing_vertices).add("isolated_missing", report.isolated_missing);
     json.add("patches", report.used_patches).add("dictionary", dictionary_kind);

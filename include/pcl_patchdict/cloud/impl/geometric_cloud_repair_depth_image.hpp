@@ -1,10 +1,10 @@
-// GeometricCloudInpainter<PointInT, PointOutT>::processDepthImage (see
-// geometric_cloud_inpainter.h): an organised cloud whose grid is a pinhole image, denoised along
+// GeometricCloudRepair<PointInT, PointOutT>::processDepthImage (see
+// geometric_cloud_repair.h): an organised cloud whose grid is a pinhole image, denoised along
 // its pixels' rays, filled in place, with the free-space test.
 #pragma once
 
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 
 #include <pcl/common/copy_point.h>
 #include <pcl/point_traits.h>
@@ -81,7 +81,7 @@ struct DepthRun {
 }  // namespace detail
 
 template <typename PointInT, typename PointOutT>
-void GeometricCloudInpainter<PointInT, PointOutT>::processDepthImage(const std::vector<Eigen::Vector3d>& points,
+void GeometricCloudRepair<PointInT, PointOutT>::processDepthImage(const std::vector<Eigen::Vector3d>& points,
                                                                       const std::vector<Eigen::Vector3d>& normals,
                                                                       const DepthImage& image, const Eigen::Matrix3d& R,
                                                                       const Eigen::Vector3d& o, PointCloudOut& output)
@@ -119,7 +119,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::processDepthImage(const std::
 }
 
 template <typename PointInT, typename PointOutT>
-void GeometricCloudInpainter<PointInT, PointOutT>::denoiseDepthInImage(detail::DepthRun& run)
+void GeometricCloudRepair<PointInT, PointOutT>::denoiseDepthInImage(detail::DepthRun& run)
 {
   const DepthImage& image = run.image;
   const PinholeCamera& camera = image.camera;
@@ -168,7 +168,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::denoiseDepthInImage(detail::D
 }
 
 template <typename PointInT, typename PointOutT>
-void GeometricCloudInpainter<PointInT, PointOutT>::denoiseDepthWithPatches(detail::DepthRun& run,
+void GeometricCloudRepair<PointInT, PointOutT>::denoiseDepthWithPatches(detail::DepthRun& run,
                                                                             const std::vector<Eigen::Vector3d>& normals)
 {
   const PointCloudIn& input = *input_;
@@ -232,7 +232,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::denoiseDepthWithPatches(detai
 }
 
 template <typename PointInT, typename PointOutT>
-void GeometricCloudInpainter<PointInT, PointOutT>::fillDepthHoles(detail::DepthRun& run)
+void GeometricCloudRepair<PointInT, PointOutT>::fillDepthHoles(detail::DepthRun& run)
 {
   // The denoised depths, when denoised first; in Complete mode the image as it is (no copy).
   DepthImage denoised;
@@ -270,7 +270,7 @@ void GeometricCloudInpainter<PointInT, PointOutT>::fillDepthHoles(detail::DepthR
 }
 
 template <typename PointInT, typename PointOutT>
-void GeometricCloudInpainter<PointInT, PointOutT>::writeDepthOutput(const detail::DepthRun& run,
+void GeometricCloudRepair<PointInT, PointOutT>::writeDepthOutput(const detail::DepthRun& run,
                                                                      const Eigen::Matrix3d& R, const Eigen::Vector3d& o,
                                                                      PointCloudOut& output)
 {

@@ -1,7 +1,7 @@
-// GeometricCloudInpainter: known answers on noisy planes and spheres, a comparison with PCL's
+// GeometricCloudRepair: known answers on noisy planes and spheres, a comparison with PCL's
 // StatisticalOutlierRemoval + MovingLeastSquares, organisation, carried fields, normals, errors.
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/cloud/geometric_cloud_inpainter.h>
+#include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 
 #include <pcl/filters/statistical_outlier_removal.h>
 #include <pcl/search/kdtree.h>
@@ -54,11 +54,11 @@ double rmsSphereDistance(const pcl::PointCloud<PointT>& cloud)
 // 20k samples of the unit sphere: mean spacing ≈ 0.5 / sqrt(20000 / 4π) ≈ 0.0125.
 constexpr double kSpacing = 0.0125;
 
-TEST(GeometricCloudInpainter, DenoisesASphereBetterThanStatisticalOutlierRemovalPlusMlsAtItsBestRadius)
+TEST(GeometricCloudRepair, DenoisesASphereBetterThanStatisticalOutlierRemovalPlusMlsAtItsBestRadius)
 {
   const double sigma = 0.5 * kSpacing;
   const auto cloud = noisySphere(20000, sigma, 200, 1);
-  GeometricCloudInpainter<pcl::PointXYZ> inpainter;
+  GeometricCloudRepair<pcl::PointXYZ> inpainter;
   inpainter.setInputCloud(cloud);
   pcl::PointCloud<pcl::PointXYZ> out;
   inpainter.process(out);
@@ -85,13 +85,13 @@ TEST(GeometricCloudInpainter, DenoisesASphereBetterThanStatisticalOutlierRemoval
   }
   EXPECT_LT(ours, best_mls);
   EXPECT_LT(ours, 0.5 * sigma);  // measured 0.3 σ
-  const CloudDenoisingReport& report = inpainter.getReport();
+  const CloudRepairReport& report = inpainter.getReport();
   EXPECT_GE(report.output_points, std::size_t{19000});  // ≥ 95 % of the inliers kept
   EXPECT_NEAR(report.noise_sigma / sigma, 1.0, 0.25);
   EXPECT_GT(report.outlier_filter_removed + report.residual_removed, std::size_t{150});
 }
 
-TEST(GeometricCloudInpainter, FlattensANoisyPlaneAndRemovesItsOutliers)
+TEST(GeometricCloudRepair, FlattensANoisyPlaneAndRemovesItsOutliers)
 {
   std::mt19937 rng(2);
   std::normal_distribution<double> gauss(0.0, 0.002);
@@ -103,7 +103,7 @@ TEST(GeometricCloudInpainter, FlattensANoisyPlaneAndRemovesItsOutliers)
   for (int i = 0; i < 50; ++i)  // off the plane by 0.05–0.2
     cloud->push_back(pcl::PointXYZ(static_cast<float>(uniform(rng)), static_cast<float>(uniform(rng)),
                                    static_cast<float>(0.05 + 0.15 * uniform(rng))));
-  GeometricCloudInpainter<pcl::PointXYZ, pcl::PointNormal> inpainter;
+  GeometricCloudRepair<pcl::PointXYZ, pcl::PointNormal> inpainter;
   inpainter.setInputCloud(cloud);
   pcl::PointCloud<pcl::PointNormal> out;
   inpainter.process(out);
@@ -122,7 +122,7 @@ TEST(GeometricCloudInpainter, FlattensANoisyPlaneAndRemovesItsOutliers)
     EXPECT_NEAR(out[i].x, (*cloud)[static_cast<std::size_t>(inpainter.getKeptIndices()[i])].x, 0.01);
 }
 
-TEST(GeometricCloudInpainter, OrganisedCloudKeepsItsGridNanCellsAndColours)
+TEST(GeometricCloudRepair, OrganisedCloudKeepsItsGridNanCellsAndColours)
 {
   // A depth image: a paraboloid seen from the origin, a NaN hole, colours per cell.
   const std::uint32_t w = 120, h = 100;
@@ -146,14 +146,14 @@ TEST(GeometricCloudInpainter, OrganisedCloudKeepsItsGridNanCellsAndColours)
       }
     }
   cloud->is_dense = false;
-  GeometricCloudInpainter<pcl::PointXYZRGB, pcl::PointXYZRGBNormal> inpainter;
+  GeometricCloudRepair<pcl::PointXYZRGB, pcl::PointXYZRGBNormal> inpainter;
   inpainter.setInputCloud(cloud);
   pcl::PointCloud<pcl::PointXYZRGBNormal> out;
   inpainter.process(out);
   ASSERT_EQ(out.width, w);
   ASSERT_EQ(out.height, h);
   EXPECT_FALSE(out.is_dense);
-  const CloudDenoisingReport& report = inpainter.getReport();
+  const CloudRepairReport& report = inpainter.getReport();
   EXPECT_EQ(report.nonfinite_points, nan_cells);
   EXPECT_EQ(report.normal_orientation, "viewpoint");
   std::size_t finite = 0;
@@ -180,10 +180,10 @@ TEST(GeometricCloudInpainter, OrganisedCloudKeepsItsGridNanCellsAndColours)
     EXPECT_TRUE(std::isfinite(out.at(c, r).x)) << "corner " << c << ", " << r << " removed";
 }
 
-TEST(GeometricCloudInpainter, NormalsOfABareClosedCloudPointOutwards)
+TEST(GeometricCloudRepair, NormalsOfABareClosedCloudPointOutwards)
 {
   const auto cloud = noisySphere(8000, 0.002, 0, 4);
-  GeometricCloudInpainter<pcl::PointXYZ, pcl::PointNormal> inpainter;
+  GeometricCloudRepair<pcl::PointXYZ, pcl::PointNormal> inpainter;
   inpainter.setInputCloud(cloud);
   pcl::PointCloud<pcl::PointNormal> out;
   inpainter.process(out);
@@ -194,7 +194,7 @@ TEST(GeometricCloudInpainter, NormalsOfABareClosedCloudPointOutwards)
   EXPECT_EQ(outward, out.size());
 }
 
-TEST(GeometricCloudInpainter, PointsMissingTheirInputNormalAreOrientedLikeTheirNeighbours)
+TEST(GeometricCloudRepair, PointsMissingTheirInputNormalAreOrientedLikeTheirNeighbours)
 {
   // Half the sphere comes with outward normals, the other half with NaN ones (as
   // pcl::NormalEstimation leaves them): every output normal points outwards.
@@ -207,7 +207,7 @@ TEST(GeometricCloudInpainter, PointsMissingTheirInputNormalAreOrientedLikeTheirN
                                           : Eigen::Vector3f(p.getVector3fMap().normalized());
     cloud->push_back(q);
   }
-  GeometricCloudInpainter<pcl::PointNormal> inpainter;
+  GeometricCloudRepair<pcl::PointNormal> inpainter;
   inpainter.setInputCloud(cloud);
   pcl::PointCloud<pcl::PointNormal> out;
   inpainter.process(out);
@@ -217,10 +217,10 @@ TEST(GeometricCloudInpainter, PointsMissingTheirInputNormalAreOrientedLikeTheirN
   EXPECT_EQ(inward, 0u);
 }
 
-TEST(GeometricCloudInpainter, IndicesOutsideTheCloudAndStackedDuplicates)
+TEST(GeometricCloudRepair, IndicesOutsideTheCloudAndStackedDuplicates)
 {
   const auto cloud = noisySphere(3000, 0.003, 0, 13);
-  GeometricCloudInpainter<pcl::PointXYZ> inpainter;
+  GeometricCloudRepair<pcl::PointXYZ> inpainter;
   inpainter.setInputCloud(cloud);
   auto indices = std::make_shared<pcl::Indices>();
   for (int i = 0; i < 2000; ++i)
@@ -238,7 +238,7 @@ TEST(GeometricCloudInpainter, IndicesOutsideTheCloudAndStackedDuplicates)
   // Every point stored twice, the pre-filter off: the spacing is still found.
   auto doubled = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>(*cloud);
   *doubled += *cloud;
-  GeometricCloudInpainter<pcl::PointXYZ> twice;
+  GeometricCloudRepair<pcl::PointXYZ> twice;
   twice.setInputCloud(doubled);
   twice.setOutlierFilter(false);
   twice.process(out);
@@ -246,12 +246,12 @@ TEST(GeometricCloudInpainter, IndicesOutsideTheCloudAndStackedDuplicates)
   EXPECT_GE(out.size(), 5900u);
 }
 
-TEST(GeometricCloudInpainter, SameOutputWhateverTheThreadCount)
+TEST(GeometricCloudRepair, SameOutputWhateverTheThreadCount)
 {
   const auto cloud = noisySphere(6000, 0.004, 60, 5);
   pcl::PointCloud<pcl::PointXYZ> one, two;
   for (int threads : {1, 2}) {
-    GeometricCloudInpainter<pcl::PointXYZ> inpainter;
+    GeometricCloudRepair<pcl::PointXYZ> inpainter;
     inpainter.setInputCloud(cloud);
     inpainter.setNumberOfThreads(threads);
     inpainter.process(threads == 1 ? one : two);
@@ -264,10 +264,10 @@ TEST(GeometricCloudInpainter, SameOutputWhateverTheThreadCount)
   }
 }
 
-TEST(GeometricCloudInpainter, GivenNoiseAndBandwidthAreUsedAndBadOnesRefused)
+TEST(GeometricCloudRepair, GivenNoiseAndBandwidthAreUsedAndBadOnesRefused)
 {
   const auto cloud = noisySphere(4000, 0.005, 0, 6);
-  GeometricCloudInpainter<pcl::PointXYZ> inpainter;
+  GeometricCloudRepair<pcl::PointXYZ> inpainter;
   inpainter.setInputCloud(cloud);
   inpainter.setNoiseSigma(0.005);
   inpainter.setBandwidth(0.06);
@@ -283,7 +283,7 @@ TEST(GeometricCloudInpainter, GivenNoiseAndBandwidthAreUsedAndBadOnesRefused)
   inpainter.setNoiseSigma(std::nan(""));
   EXPECT_THROW(inpainter.process(out), Error);
 
-  GeometricCloudInpainter<pcl::PointXYZ> few;
+  GeometricCloudRepair<pcl::PointXYZ> few;
   few.setInputCloud(noisySphere(99, 0.0, 0, 7));
   try {
     few.process(out);
@@ -321,17 +321,17 @@ pcl::PointCloud<pcl::PointNormal>::Ptr sphereWithHole(std::size_t n, double hole
   return cloud;
 }
 
-TEST(GeometricCloudInpainter, CompletesAHoleOnASphereAtTheInputDensityAndOnTheSurface)
+TEST(GeometricCloudRepair, CompletesAHoleOnASphereAtTheInputDensityAndOnTheSurface)
 {
   const double hole = 0.3;  // radians: a cap of diameter ≈ 0.59 on the unit sphere (0.15 × its bbox: 0.3)
   const auto cloud = sphereWithHole(20000, hole, false, 8);
-  GeometricCloudInpainter<pcl::PointNormal> inpainter;
+  GeometricCloudRepair<pcl::PointNormal> inpainter;
   inpainter.setInputCloud(cloud);
-  inpainter.setMode(GeometricCloudInpainter<pcl::PointNormal>::Mode::Complete);
+  inpainter.setMode(GeometricCloudRepair<pcl::PointNormal>::Mode::Complete);
   inpainter.setMaxHoleDiameter(0.8);
   pcl::PointCloud<pcl::PointNormal> out;
   inpainter.process(out);
-  const CloudDenoisingReport& report = inpainter.getReport();
+  const CloudRepairReport& report = inpainter.getReport();
   ASSERT_EQ(report.completion.holes_filled, 1u);
   ASSERT_EQ(out.size(), report.output_points + report.points_added);
   ASSERT_EQ(inpainter.getAddedSources().size(), report.points_added);
@@ -370,12 +370,12 @@ TEST(GeometricCloudInpainter, CompletesAHoleOnASphereAtTheInputDensityAndOnTheSu
   EXPECT_GT(covered, 830u);
 }
 
-TEST(GeometricCloudInpainter, AnOpenBorderWiderThanTheLimitStaysOpen)
+TEST(GeometricCloudRepair, AnOpenBorderWiderThanTheLimitStaysOpen)
 {
   const auto cloud = sphereWithHole(12000, 0.0, true, 10);
-  GeometricCloudInpainter<pcl::PointNormal> inpainter;
+  GeometricCloudRepair<pcl::PointNormal> inpainter;
   inpainter.setInputCloud(cloud);
-  inpainter.setMode(GeometricCloudInpainter<pcl::PointNormal>::Mode::Complete);
+  inpainter.setMode(GeometricCloudRepair<pcl::PointNormal>::Mode::Complete);
   pcl::PointCloud<pcl::PointNormal> out;
   inpainter.process(out);  // default limit: 0.15 × the bbox side (2): 0.3, the opening is ≈ 1.96 wide
   EXPECT_EQ(inpainter.getReport().points_added, 0u);
