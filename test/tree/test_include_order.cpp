@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -30,13 +29,58 @@ struct StageOrder {
   }
 };
 
+/// The names in `backticks` of a line (lower-case letters and underscores only).
 std::vector<std::string> backticked(const std::string& text)
 {
   std::vector<std::string> out;
-  const std::regex name("`([a-z_]+)`");
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), name); it != std::sregex_iterator(); ++it)
-    out.push_back((*it)[1]);
+  for (std::size_t open = text.find('`'); open != std::string::npos; open = text.find('`', open + 1)) {
+    const std::size_t close = text.find('`', open + 1);
+    if (close == std::string::npos)
+      break;
+    const std::string name = text.substr(open + 1, close - open - 1);
+    if (!name.empty() && name.find_first_not_of("abcdefghijklmnopqrstuvwxyz_") == std::string::npos)
+      out.push_back(name);
+    open = close;
+  }
   return out;
+}
+
+/// An include line's target: the text between <> or "", and its stage — <pcl_patchdict/STAGE/…>, a
+/// private "STAGE/…", <pcl_patchdict_eval/…> ("eval"); empty for anything else (<pcl/…> is PCL's).
+struct Include {
+  std::string text, stage;
+  bool quoted = false;
+};
+
+bool parseInclude(const std::string& line, Include& out)
+{
+  std::size_t i = line.find_first_not_of(" \t");
+  if (i == std::string::npos || line[i] != '#')
+    return false;
+  i = line.find_first_not_of(" \t", i + 1);
+  if (i == std::string::npos || line.compare(i, 7, "include") != 0)
+    return false;
+  i = line.find_first_not_of(" \t", i + 7);
+  if (i == std::string::npos || (line[i] != '<' && line[i] != '"'))
+    return false;
+  const char close = line[i] == '<' ? '>' : '"';
+  const std::size_t end = line.find(close, i + 1);
+  if (end == std::string::npos)
+    return false;
+  out.quoted = close == '"';
+  out.text = line.substr(i, end - i + 1);
+  const std::string path = line.substr(i + 1, end - i - 1);
+  const auto first = [&](std::size_t from) {
+    const std::size_t slash = path.find('/', from);
+    return slash == std::string::npos ? std::string() : path.substr(from, slash - from);
+  };
+  if (!out.quoted && path.rfind("pcl_patchdict_eval/", 0) == 0)
+    out.stage = "eval";
+  else if (!out.quoted && path.rfind("pcl_patchdict/", 0) == 0)
+    out.stage = first(14);
+  else if (out.quoted)
+    out.stage = first(0);
+  return !out.stage.empty();
 }
 
 StageOrder readStageOrder(const fs::path& layout)
@@ -82,10 +126,6 @@ std::string stageOf(const fs::path& relative)
 std::vector<std::string> orderViolations(const fs::path& root, const StageOrder& order)
 {
   std::vector<std::string> out;
-  // <pcl_patchdict/STAGE/…> or a private "STAGE/…"; <pcl/…> is PCL's own and not a stage;
-  // <pcl_patchdict_eval/…> is the evaluation library's.
-  const std::regex include_line(
-      R"(^\s*#\s*include\s*(<pcl_patchdict/([a-z_]+)/[^>]+>|"([a-z_]+)/[^"]+"|<pcl_patchdict_(eval)/[^>]+>))");
   std::vector<fs::path> files;
   for (const char* top : {"include", "src", "apps"})
     if (fs::exists(root / top))
@@ -107,12 +147,12 @@ std::vector<std::string> orderViolations(const fs::path& root, const StageOrder&
     std::ifstream in(file);
     std::string line;
     for (int number = 1; std::getline(in, line); ++number) {
-      std::smatch m;
-      if (!std::regex_search(line, m, include_line))
+      Include include;
+      if (!parseInclude(line, include))
         continue;
-      const std::string target = m[2].matched ? m[2].str() : m[3].matched ? m[3].str() : m[4].str();
-      const std::string where = relative.string() + ":" + std::to_string(number) + ": " + m[1].str();
-      if (m[3].matched && target == "pcl") {  // "pcl/x.h" reads as PCL's own <pcl/x.h>
+      const std::string& target = include.stage;
+      const std::string where = relative.string() + ":" + std::to_string(number) + ": " + include.text;
+      if (include.quoted && target == "pcl") {  // "pcl/x.h" reads as PCL's own <pcl/x.h>
         out.push_back(where + ": a private header under \"pcl/\" reads as one of PCL's");
         continue;
       }
