@@ -2,6 +2,7 @@
 // sinusoidal relief and a sphere in mesh mode; bin-centred grids in cloud mode; determinism; errors.
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/patches/height_maps.h>
+#include <pcl_patchdict/patches/patch_seeds.h>
 #include <pcl_patchdict_eval/shapes.h>
 
 #include <gtest/gtest.h>
@@ -445,4 +446,45 @@ TEST(HeightMapErrors, BadInputIsRejectedWithOneLine)
   // And the valid configuration works.
   EXPECT_NO_THROW(extractMeshHeightMaps(plane, seeds, identityFrames(1), good, out));
   EXPECT_EQ(out.numPatches(), 1u);
+}
+
+// layPatches, the one way from a surface to seeds and frames: a cloud's seeds lie on its Poisson
+// surface (here a sphere's vertices: near the sphere, frames' Z along its normal), a mesh's on the
+// mesh; random placement lays 12·(1 + 4k)/5 seeds per L² of area; the extraction reads the layout's
+// side. Bad parameters are one Error.
+TEST(LayPatches, CloudsOnTheirPoissonSurfaceMeshesOnThemselvesRandomByArea)
+{
+  TriangleMesh cloud = makeIcosphere(5, 0.45);
+  cloud.faces.clear();
+  PatchLayoutParameters parameters;
+  parameters.quad_length = 0.08;
+  PatchPlacementReport report;
+  const PatchLayout on_cloud = layPatches(cloud, parameters, SeedPlacement::Quads, &report);
+  EXPECT_TRUE(report.from_cloud);
+  EXPECT_GT(report.poisson_depth, 0);
+  EXPECT_GT(report.surface_faces, 0u);
+  ASSERT_GT(on_cloud.seeds.size(), 50u);
+  for (std::size_t s = 0; s < on_cloud.seeds.size(); ++s) {
+    EXPECT_NEAR(on_cloud.seeds[s].norm(), 0.45, 0.02) << s;
+    EXPECT_GT(on_cloud.frames[s].row(2).dot(on_cloud.seeds[s].normalized()), 0.9) << s;
+  }
+  const PatchSet heights = extractSurfacePatches(cloud, on_cloud, 8);
+  EXPECT_EQ(heights.numPatches(), on_cloud.seeds.size());
+  EXPECT_NEAR(heights.side(), 0.08, 1e-12);
+
+  const TriangleMesh plane = makePlaneGrid(20, 20, 1.0, 1.0);
+  PatchPlacementReport mesh_report;
+  const PatchLayout random = layPatches(plane, parameters, SeedPlacement::Random, &mesh_report);
+  EXPECT_FALSE(mesh_report.from_cloud);
+  EXPECT_EQ(random.seeds.size(), static_cast<std::size_t>(std::ceil(12.0 * 5.0 / 5.0 / (0.08 * 0.08))));
+  for (const auto& seed : random.seeds)
+    EXPECT_EQ(seed.z(), 0.0);
+  parameters.quad_length = 0.0;
+  EXPECT_THROW(layPatches(plane, parameters), Error);
+  parameters.quad_length = 0.08;
+  parameters.overlap = 17;
+  EXPECT_THROW(layPatches(plane, parameters), Error);
+  cloud.vertices.resize(10);
+  parameters.overlap = 1;
+  EXPECT_THROW(layPatches(cloud, parameters), Error);
 }
