@@ -1,5 +1,6 @@
 // SparsePatchInpainter: patches correct the geometric fill of a relief cloud's holes, and leave a
 // smooth cloud's fill exactly as the base made it.
+#include <pcl_patchdict/cloud/cloud_patch_correction.h>
 #include <pcl_patchdict/cloud/sparse_patch_inpainter.h>
 #include <pcl_patchdict/core/error.h>
 
@@ -129,6 +130,34 @@ TEST(SparsePatchInpainter, BadPatchOptionsAreOneClearError)
   options.grid_size = 1;
   EXPECT_THROW(pcl::patchdict::checkCloudPatchOptions(options), pcl::patchdict::Error);
   EXPECT_NO_THROW(pcl::patchdict::checkCloudPatchOptions({}));
+}
+
+// The holes' diameter d sizes the patches: it is the median over the holes, and the sampling gaps a
+// fill closes beside them (groups of a tenth of the largest group's points or fewer) are no holes —
+// 13 small gaps must not outvote 3 real holes (they did: d fell to a gap's size, the patches shrank).
+TEST(SparsePatchInpainter, TheHoleDiameterIgnoresClosedSamplingGaps)
+{
+  std::vector<Eigen::Vector3d> observed, added, corrected;
+  const double s = 0.01;  // spacing
+  for (int i = 0; i < 100; ++i)
+    for (int j = 0; j < 100; ++j)
+      observed.emplace_back(i * s, j * s, 0.0);
+  const auto disc = [&](double cx, double cy, double radius) {
+    for (double x = -radius; x <= radius + 1e-12; x += 0.5 * s)
+      for (double y = -radius; y <= radius + 1e-12; y += 0.5 * s)
+        if (x * x + y * y <= radius * radius)
+          added.emplace_back(cx + x, cy + y, 0.0);
+  };
+  for (int h = 0; h < 3; ++h)
+    disc(0.2 + 0.3 * h, 0.3, 0.08);  // real holes: ~800 points, 0.16 across
+  for (int g = 0; g < 13; ++g)
+    disc(0.05 + 0.07 * g, 0.8, 0.01);  // closed gaps: ~13 points, 0.02 across
+  pcl::patchdict::CloudPatchOptions options;
+  options.decision.mode = PatchDecision::Never;  // d alone: the stage need not run
+  pcl::patchdict::CloudPatchReport report;
+  pcl::patchdict::correctCloudFillWithPatches(observed, added, s, options, corrected, &report);
+  EXPECT_EQ(report.holes, 3u);
+  EXPECT_NEAR(report.hole_diameter, 0.16, 0.01);
 }
 
 }  // namespace
