@@ -55,8 +55,9 @@ int cli::runHelp(const std::vector<std::string>& args)
     std::cout << markdownHelp();
     return 0;
   }
-  if (args.size() == 1 && subcommands().count(args[0])) {
-    std::cout << commandHelp(args[0]);
+  const std::string command = args.size() == 1 && args[0] == "inpaint" ? std::string("fill-missing") : args.at(0);
+  if (args.size() == 1 && subcommands().count(command)) {
+    std::cout << commandHelp(command);
     return 0;
   }
   throw UsageError("usage: pcl_patchdict help [COMMAND | --markdown]");

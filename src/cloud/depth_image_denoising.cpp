@@ -222,15 +222,16 @@ PD_INLINE void laneSums(const LaneFilter& f, const Block<V>& b, bool full, bool 
     const float fv = static_cast<float>(dv);
     const V base = b.wp - (ra + rc * fv);
     V rS = zero, rSu = zero, rSuu = zero, rSd = zero, rSud = zero, rN = zero;
-    const float* entry = f.table.data() +
-                         (static_cast<std::size_t>(jv + table_reach) * table_side + (table_reach - J)) * f.table_size;
-    for (int ju = -J; ju <= J; ++ju, entry += f.table_size) {
+    // The full window's weights per offset: row jv of the table, from its column −J (seed fits read
+    // their own small table instead, by offset).
+    std::size_t entry = full ? (static_cast<std::size_t>(jv + table_reach) * table_side + (table_reach - J)) * f.table_size : 0;
+    for (int ju = -J; ju <= J; ++ju, entry += full ? f.table_size : 0) {
       const std::size_t offset = static_cast<std::size_t>(jv + table_reach) * table_side + (ju + table_reach);
       V weight, inv = b.scale, q;
       if (full) {
         if (f.table_size == 16) {
           F16 all;
-          load(all, entry);
+          load(all, f.table.data() + entry);
           if constexpr (LanesOf<V>::size == 16)
             weight = __builtin_shuffle(all, b.radius);
           else
@@ -238,7 +239,7 @@ PD_INLINE void laneSums(const LaneFilter& f, const Block<V>& b, bool full, bool 
                                        __builtin_shufflevector(all, all, 8, 9, 10, 11, 12, 13, 14, 15), b.radius);
         } else {
           for (int l = 0; l < LanesOf<V>::size; ++l)
-            weight[l] = entry[b.radius[l]];
+            weight[l] = f.table[entry + static_cast<std::size_t>(b.radius[l])];
         }
       } else {
         weight = zero + f.seed_spatial[offset];
@@ -477,10 +478,11 @@ void denoiseDepthImage(const DepthImage& image, const DepthNoiseModel& noise, co
   if (image.width > static_cast<std::size_t>(std::numeric_limits<int>::max() / 4) ||
       image.height > static_cast<std::size_t>(std::numeric_limits<int>::max() / 4))
     throw Error("denoiseDepthImage: the depth image is too large");
-  if (std::max(1, parameters.max_radius) / std::max(1, parameters.window_stride) > kMaxWindowReach ||
-      parameters.seed_radius > kMaxWindowReach)
+  // The kernel's reach: its largest radius (max_radius, or min_radius when larger) over the stride.
+  const int largest_radius = std::max(std::max(1, parameters.min_radius), parameters.max_radius);
+  if (largest_radius / std::max(1, parameters.window_stride) > kMaxWindowReach || parameters.seed_radius > kMaxWindowReach)
     throw Error("denoiseDepthImage: the window reaches more than " + std::to_string(kMaxWindowReach) +
-                " samples from its pixel (max_radius / window_stride and seed_radius are limited to it)");
+                " samples from its pixel (max(min_radius, max_radius) / window_stride and seed_radius are limited to it)");
 
   const int threads = parameters.num_threads > 0 ? parameters.num_threads : omp_get_max_threads();
   std::vector<float> inverse(n);

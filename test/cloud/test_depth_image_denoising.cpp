@@ -235,6 +235,9 @@ TEST(DepthImageDenoising, RefusesAnImageWithoutCameraOrNoise)
   EXPECT_THROW(pcl::patchdict::denoiseDepthImage(frame.image, kinectNoise(), wide, out, report), pcl::patchdict::Error);
   wide.max_radius = 64;  // 32 samples each side: allowed
   EXPECT_NO_THROW(pcl::patchdict::denoiseDepthImage(frame.image, kinectNoise(), wide, out, report));
+  wide.max_radius = 12;  // a minimum above the maximum is the reach that counts
+  wide.min_radius = 80;
+  EXPECT_THROW(pcl::patchdict::denoiseDepthImage(frame.image, kinectNoise(), wide, out, report), pcl::patchdict::Error);
   frame.image.camera.valid = false;
   EXPECT_THROW(pcl::patchdict::denoiseDepthImage(frame.image, kinectNoise(), DepthDenoisingParameters(), out, report),
                pcl::patchdict::Error);

@@ -50,6 +50,7 @@ public:
   Base& getGeometricRepair() { return base_; }
   const Base& getGeometricRepair() const { return base_; }
   [[deprecated("renamed getGeometricRepair")]] Base& getGeometricInpainter() { return base_; }
+  [[deprecated("renamed getGeometricRepair")]] const Base& getGeometricInpainter() const { return base_; }
 
   /** The dictionary the patches are coded over (null, the default: a self-similar one). */
   void setDictionary(const PatchDictionary::ConstPtr& dictionary) { patch_options_.dictionary = dictionary; }

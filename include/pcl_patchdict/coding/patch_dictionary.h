@@ -2,6 +2,7 @@
 // learn it (K-SVD or online), code patches with Batch-OMP or masked OMP, decode, save as .pdd.
 #pragma once
 
+#include <pcl_patchdict/core/checksum.h>  // fnv1a64, declared here before
 #include <pcl_patchdict/coding/dictionary_learning.h>
 #include <pcl_patchdict/coding/sparse_coding.h>
 
