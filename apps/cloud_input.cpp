@@ -2,6 +2,7 @@
 #include "cloud_input.h"
 #include "cli.h"
 
+#include <pcl_patchdict/pcl/conversions.h>
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/cloud/gross_outliers.h>
 #include <pcl_patchdict/io/mesh_io.h>
@@ -59,19 +60,6 @@ const pcl::PCLPointField* findScalarField(const pcl::PCLPointCloud2& blob, const
   return nullptr;
 }
 
-double readScalar(const pcl::PCLPointCloud2& blob, std::size_t point, const pcl::PCLPointField& field)
-{
-  const std::uint8_t* at = blob.data.data() + point * blob.point_step + field.offset;
-  if (field.datatype == pcl::PCLPointField::FLOAT32) {
-    float v;
-    std::memcpy(&v, at, sizeof v);
-    return v;
-  }
-  double v;
-  std::memcpy(&v, at, sizeof v);
-  return v;
-}
-
 void writeScalar(pcl::PCLPointCloud2& blob, std::size_t point, const pcl::PCLPointField& field, double value)
 {
   std::uint8_t* at = blob.data.data() + point * blob.point_step + field.offset;
@@ -92,19 +80,6 @@ const pcl::PCLPointField* findIntegerField(const pcl::PCLPointCloud2& blob, cons
   return nullptr;
 }
 
-long long readInteger(const pcl::PCLPointCloud2& blob, std::size_t point, const pcl::PCLPointField& field)
-{
-  const std::uint8_t* at = blob.data.data() + point * blob.point_step + field.offset;
-  switch (field.datatype) {
-  case pcl::PCLPointField::INT8: { std::int8_t v; std::memcpy(&v, at, 1); return v; }
-  case pcl::PCLPointField::UINT8: { std::uint8_t v; std::memcpy(&v, at, 1); return v; }
-  case pcl::PCLPointField::INT16: { std::int16_t v; std::memcpy(&v, at, 2); return v; }
-  case pcl::PCLPointField::UINT16: { std::uint16_t v; std::memcpy(&v, at, 2); return v; }
-  case pcl::PCLPointField::INT32: { std::int32_t v; std::memcpy(&v, at, 4); return v; }
-  default: { std::uint32_t v; std::memcpy(&v, at, 4); return v; }
-  }
-}
-
 namespace {
 
 /** A PCD: every field kept in the blob; x/y/z (float32 or float64) and normals read by hand. */
@@ -122,7 +97,7 @@ void readPcdCloud(const std::string& path, CloudInput& input)
       findScalarField(input.blob, "z"),        findScalarField(input.blob, "normal_x"),
       findScalarField(input.blob, "normal_y"), findScalarField(input.blob, "normal_z")};
   input.has_normals = fields[3] && fields[4] && fields[5];
-  const auto value = [&](std::size_t i, int f) { return readScalar(input.blob, i, *fields[f]); };
+  const auto value = [&](std::size_t i, int f) { return readPointField(input.blob, i, *fields[f]); };
   input.positions.resize(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i)
     input.positions[i] = Eigen::Vector3d(value(i, 0), value(i, 1), value(i, 2));

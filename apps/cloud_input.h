@@ -2,6 +2,7 @@
 // field, its organisation and its viewpoint (PCD), or positions and normals (face-less PLY).
 #pragma once
 
+#include <pcl_patchdict/pcl/conversions.h>  // readPointField
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -22,11 +23,9 @@ bool isCloudFile(const std::string& path);
 /** A field of one float32 or float64 value, or nullptr. */
 const pcl::PCLPointField* findScalarField(const pcl::PCLPointCloud2& blob, const char* name);
 /** An integer field of one value (INT8 … UINT32; Velodyne and Ouster write `ring` as uint16), or
-  * nullptr; and its value in point i. */
+  * nullptr. Either field's value in point i: readPointField (pcl/conversions.h). */
 const pcl::PCLPointField* findIntegerField(const pcl::PCLPointCloud2& blob, const char* name);
-long long readInteger(const pcl::PCLPointCloud2& blob, std::size_t point, const pcl::PCLPointField& field);
-/** That field's value in point i, as double; and back (float32 fields round). */
-double readScalar(const pcl::PCLPointCloud2& blob, std::size_t point, const pcl::PCLPointField& field);
+/** A float field's value written into point i (float32 fields round). */
 void writeScalar(pcl::PCLPointCloud2& blob, std::size_t point, const pcl::PCLPointField& field, double value);
 
 struct CloudInput {

@@ -243,7 +243,7 @@ void interpolateIntensity(pcl::PCLPointCloud2& blob, const CloudInput& input, co
   for (std::size_t i = 0; i < n; ++i) {
     const auto& p = (*input.cloud)[i];
     measured[i] = isReturn(Eigen::Vector3d(p.x, p.y, p.z));
-    values[i] = readScalar(blob, i, *field);
+    values[i] = readPointField(blob, i, *field);
   }
   const std::vector<std::size_t> filled(result.filled.begin(), result.filled.end());
   interpolateAtFilledPixels(values, measured, blob.width, blob.height, result.report.spinning.wraps, filled);

@@ -24,7 +24,7 @@ bool readRingScan(const CloudInput& input, RingScan& scan)
   std::vector<long long> rings(n);
   long long most = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    rings[i] = readInteger(input.blob, i, *field);
+    rings[i] = static_cast<long long>(readPointField(input.blob, i, *field));  // exact: ≤ 32-bit fields
     if (rings[i] < 0 || rings[i] > 1023)
       throw Error("point " + std::to_string(i) + " has ring " + std::to_string(rings[i]) +
                   ": a spinning LiDAR's rings are 0 to 1023");

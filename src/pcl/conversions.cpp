@@ -53,6 +53,11 @@ std::size_t fieldSize(std::uint8_t datatype)
 
 }  // namespace
 
+double readPointField(const pcl::PCLPointCloud2& blob, std::size_t point, const pcl::PCLPointField& field)
+{
+  return readField(blob.data.data() + point * blob.point_step + field.offset, field);
+}
+
 void toPolygonMesh(const TriangleMesh& mesh, pcl::PolygonMesh& out)
 {
   out = pcl::PolygonMesh();

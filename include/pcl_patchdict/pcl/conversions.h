@@ -4,8 +4,11 @@
 
 #include <pcl_patchdict/core/triangle_mesh.h>
 
+#include <pcl/PCLPointCloud2.h>
 #include <pcl/PolygonMesh.h>
 #include <pcl/point_cloud.h>
+
+#include <cstddef>
 
 #include <vector>
 
@@ -17,6 +20,10 @@ void toPolygonMesh(const TriangleMesh& mesh, pcl::PolygonMesh& out);
 /** \brief Convert from a pcl::PolygonMesh. Polygons with more than 3 vertices are fan-triangulated;
   * throws pcl::patchdict::Error if the cloud has no x/y/z fields or a face index is out of range. */
 void fromPolygonMesh(const pcl::PolygonMesh& in, TriangleMesh& mesh);
+
+/** \brief Field `field` (count 1, any of PCL's numeric types) of point `point` of a blob, as double
+  * (exact for every integer type up to 32 bits); NaN for a datatype PCL does not define. */
+double readPointField(const pcl::PCLPointCloud2& blob, std::size_t point, const pcl::PCLPointField& field);
 
 /** \brief Copy the vertices (and normals, when PointT has them) into a cloud. */
 template <typename PointT>
