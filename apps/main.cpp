@@ -34,6 +34,9 @@ const std::map<std::string, std::function<int(const std::vector<std::string>&)>>
   return table;
 }
 
+/** A command's current name: `inpaint` is fill-missing's former one, still accepted. */
+std::string commandName(const std::string& name) { return name == "inpaint" ? std::string("fill-missing") : name; }
+
 bool asksForHelp(const std::vector<std::string>& args)
 {
   for (const std::string& arg : args)
@@ -55,7 +58,7 @@ int cli::runHelp(const std::vector<std::string>& args)
     std::cout << markdownHelp();
     return 0;
   }
-  const std::string command = args.size() == 1 && args[0] == "inpaint" ? std::string("fill-missing") : args.at(0);
+  const std::string command = commandName(args.at(0));
   if (args.size() == 1 && subcommands().count(command)) {
     std::cout << commandHelp(command);
     return 0;
@@ -78,8 +81,7 @@ int main(int argc, char** argv)
   const std::vector<std::string> all(argv + 1, argv + argc);
   if (all.empty() || all[0] == "--help" || all[0] == "-h")
     return cli::runHelp({});
-  // `inpaint` is fill-missing's former name: still accepted.
-  const std::string name = all[0] == "inpaint" ? std::string("fill-missing") : all[0];
+  const std::string name = commandName(all[0]);
   const std::vector<std::string> args(all.begin() + 1, all.end());
   try {
     if (name == "help")

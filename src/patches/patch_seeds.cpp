@@ -114,21 +114,16 @@ PatchLayout layPatches(const TriangleMesh& surface, const PatchLayoutParameters&
   return layout;
 }
 
-PatchSet extractSurfacePatches(const TriangleMesh& surface, const PatchLayout& layout, int grid_size,
-                               HeightMapParameters cloud)
+PatchSet extractSurfacePatches(const TriangleMesh& surface, const PatchLayout& layout, int grid_size)
 {
-  cloud.radius = layout.quad_length / std::sqrt(2.0);  // patch side √2·r = L, as in the paper
-  cloud.grid_size = grid_size;
+  HeightMapParameters parameters;
+  parameters.radius = layout.quad_length / std::sqrt(2.0);  // patch side √2·r = L, as in the paper
+  parameters.grid_size = grid_size;
   PatchSet patches;
-  if (surface.faces.empty()) {
-    extractCloudHeightMaps(surface.vertices, layout.seeds, layout.frames, cloud, patches);
-  } else {
-    HeightMapParameters exact;
-    exact.radius = cloud.radius;
-    exact.grid_size = grid_size;
-    exact.num_threads = cloud.num_threads;
-    extractMeshHeightMaps(surface, layout.seeds, layout.frames, exact, patches);
-  }
+  if (surface.faces.empty())
+    extractCloudHeightMaps(surface.vertices, layout.seeds, layout.frames, parameters, patches);
+  else
+    extractMeshHeightMaps(surface, layout.seeds, layout.frames, parameters, patches);
   return patches;
 }
 

@@ -50,9 +50,8 @@ PatchLayout randomPatchLayout(const TriangleMesh& mesh, std::size_t count, std::
 
 /** \brief The height maps of `surface` at the layout's seeds: grid_size² bins, patch side
   * layout.quad_length (radius L/√2). A mesh's are exact (extractMeshHeightMaps); a cloud's are
-  * binned from its points (extractCloudHeightMaps with `cloud` settings, radius and grid set here). */
-PatchSet extractSurfacePatches(const TriangleMesh& surface, const PatchLayout& layout, int grid_size,
-                               HeightMapParameters cloud = HeightMapParameters());
+  * binned from its points (extractCloudHeightMaps, a bin's mean). */
+PatchSet extractSurfacePatches(const TriangleMesh& surface, const PatchLayout& layout, int grid_size);
 
 }  // namespace patchdict
 }  // namespace pcl

@@ -287,42 +287,38 @@ void GeometricCloudRepair<PointInT, PointOutT>::writeDepthOutput(const detail::D
   output.sensor_orientation_ = input.sensor_orientation_;
   output.resize(run.W, run.H);
   const float fnan = std::numeric_limits<float>::quiet_NaN();
-  // Every pixel written in parallel (each its own output point), the index lists after, in order.
-  const long long pixels = static_cast<long long>(n);
-  const int threads = parameters_.num_threads > 0 ? parameters_.num_threads : omp_get_max_threads();
-#pragma omp parallel for schedule(static) num_threads(threads)
-  for (long long k = 0; k < pixels; ++k) {
-    const std::size_t i = static_cast<std::size_t>(k);
-    PointOutT& out = output[i];
-    pcl::copyPoint(input[i], out);
-    if (!run.present[i]) {
-      // No point here: NaN, unless the input marked it "no return" as some drivers do, with
-      // (0, 0, 0) (isReturn): that stays as written.
-      if (input[i].x == 0.0f && input[i].y == 0.0f && input[i].z == 0.0f)
-        continue;
-      out.x = out.y = out.z = fnan;
-      if constexpr (pcl::traits::has_normal_v<PointOutT>)
-        out.normal_x = out.normal_y = out.normal_z = fnan;
-      continue;
-    }
-    if (!is_filled[i] && mode_ == Mode::Complete && run.image.valid[i])
-      continue;  // Complete: the measured points as they are
-    if constexpr (pcl::traits::has_normal_v<PointOutT>)
-      place(out, R * run.position[i] + o, R * run.normal[i]);
-    else
-      place(out, R * run.position[i] + o, Eigen::Vector3d::Zero());
-  }
-  // The displacements summed per fixed block of pixels, in parallel, and the blocks added in order:
-  // the same sum whatever the thread count.
+  // Every pixel written in parallel (each its own output point), in fixed blocks of pixels whose
+  // moved points' displacements are summed in pixel order and the blocks added in order after: the
+  // same sum whatever the thread count. The index lists after, in order.
   constexpr std::size_t block = 4096;
   const long long blocks = static_cast<long long>((n + block - 1) / block);
   std::vector<double> block_sum(static_cast<std::size_t>(blocks), 0.0);
+  const int threads = parameters_.num_threads > 0 ? parameters_.num_threads : omp_get_max_threads();
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (long long b = 0; b < blocks; ++b) {
     double sum = 0.0;
-    for (std::size_t i = std::size_t(b) * block; i < std::min(n, std::size_t(b + 1) * block); ++i)
-      if (run.present[i] && !is_filled[i] && !(mode_ == Mode::Complete && run.image.valid[i]))
+    for (std::size_t i = std::size_t(b) * block; i < std::min(n, std::size_t(b + 1) * block); ++i) {
+      PointOutT& out = output[i];
+      pcl::copyPoint(input[i], out);
+      if (!run.present[i]) {
+        // No point here: NaN, unless the input marked it "no return" as some drivers do, with
+        // (0, 0, 0) (isReturn): that stays as written.
+        if (input[i].x == 0.0f && input[i].y == 0.0f && input[i].z == 0.0f)
+          continue;
+        out.x = out.y = out.z = fnan;
+        if constexpr (pcl::traits::has_normal_v<PointOutT>)
+          out.normal_x = out.normal_y = out.normal_z = fnan;
+        continue;
+      }
+      if (!is_filled[i] && mode_ == Mode::Complete && run.image.valid[i])
+        continue;  // Complete: the measured points as they are
+      if constexpr (pcl::traits::has_normal_v<PointOutT>)
+        place(out, R * run.position[i] + o, R * run.normal[i]);
+      else
+        place(out, R * run.position[i] + o, Eigen::Vector3d::Zero());
+      if (!is_filled[i])
         sum += (run.position[i] - run.measured(i)).norm();
+    }
     block_sum[std::size_t(b)] = sum;
   }
   double displacement = 0.0;
