@@ -1,7 +1,7 @@
 #include "cli.h"
 #include "options.h"
 
-#include <pcl_patchdict/io/atomic_file.h>
+#include <pcl_patchdict/core/atomic_file.h>
 #include <pcl_patchdict/geometry/mesh_hygiene.h>
 
 #include <charconv>

@@ -3,12 +3,14 @@
 #include "cli.h"
 #include "options.h"
 
-#include <pcl_patchdict/io/atomic_file.h>
+#include <pcl_patchdict/core/atomic_file.h>
 #include <pcl_patchdict_eval/mesh_render.h>
 #include <pcl_patchdict_eval/repair_figure.h>
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/codec/patch_codec.h>
+#include <pcl_patchdict/io/patch_codec_io.h>
+#include <pcl_patchdict/io/patch_dictionary_io.h>
 
 #include <cmath>
 #include <cstdio>
@@ -76,7 +78,7 @@ int runCompress(const std::vector<std::string>& raw)
   StageTimer timer(quiet);
   timer.start("load");
   const TriangleMesh mesh = loadMesh(input, quiet);
-  const PatchDictionary::Ptr dictionary = PatchDictionary::load(args.get("dict"));
+  const PatchDictionary::Ptr dictionary = loadPatchDictionary(args.get("dict"));
   PatchCodec codec;
   codec.setDictionary(dictionary);
   codec.setParameters(parameters);
@@ -158,13 +160,13 @@ int runDecompress(const std::vector<std::string>& raw)
 
   StageTimer timer(quiet);
   timer.start("load");
-  const PatchDictionary::Ptr dictionary = PatchDictionary::load(args.get("dict"));
+  const PatchDictionary::Ptr dictionary = loadPatchDictionary(args.get("dict"));
   PatchCodec codec;
   codec.setDictionary(dictionary);
   timer.start("decode");
   TriangleMesh decoded;
   PatchCodec::Report report;
-  codec.decompress(input, decoded, &report);
+  loadCompressedMesh(input, codec, decoded, &report);
   timer.start("save");
   writeMesh(output, decoded);
   if (args.has("png")) {

@@ -10,6 +10,8 @@
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/cloud/geometric_cloud_repair.h>
 #include <pcl_patchdict/cloud/sparse_patch_inpainter.h>
+#include <pcl_patchdict/io/patch_dictionary_io.h>
+#include <pcl_patchdict/io/sensor_model_io.h>
 
 #include <pcl/common/io.h>
 #include <pcl/conversions.h>
@@ -121,7 +123,7 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
                                       : Inpainter::Mode::Complete;
   PatchDictionary::ConstPtr dictionary;
   if (args.has("dict"))
-    dictionary = PatchDictionary::load(args.get("dict"));
+    dictionary = loadPatchDictionary(args.get("dict"));
   // An unorganised spinning-LiDAR scan with a ring field is repaired on its beams × azimuth grid.
   RingScan ring_scan;
   const bool by_ring = readRingScan(input, ring_scan);

@@ -9,6 +9,7 @@
 #include <pcl_patchdict/cloud/gross_outliers.h>
 #include <pcl_patchdict/cloud/height_field_hole_filling.h>
 #include <pcl_patchdict/cloud/sensor_model.h>
+#include <pcl_patchdict/io/sensor_model_io.h>
 
 #include <pcl/kdtree/kdtree_flann.h>
 

@@ -12,6 +12,8 @@
 #include <pcl_patchdict/coding/patch_dictionary.h>
 #include <pcl_patchdict/patches/patch_set.h>
 #include <pcl_patchdict/coding/patch_shuffle_buffer.h>
+#include <pcl_patchdict/io/learning_checkpoint_io.h>
+#include <pcl_patchdict/io/patch_dictionary_io.h>
 
 #include <algorithm>
 #include <chrono>
@@ -186,7 +188,7 @@ void describeOnline(const Arguments& args, LearnRun& run)
 /** The checkpoint to resume from, checked against this run (settings, inputs, shard count). */
 LearningCheckpoint loadResumable(const LearnRun& run)
 {
-  LearningCheckpoint saved = LearningCheckpoint::load(run.resume_path);
+  LearningCheckpoint saved = loadLearningCheckpoint(run.resume_path);
   checkResumable(saved, run.progress, run.resume_path);
   const std::size_t shards = run.shards > 1 ? static_cast<std::size_t>(run.shards) : 0;
   if (saved.shards.size() != shards)
@@ -243,7 +245,7 @@ void learnOnline(const Arguments& args, LearnRun& run)
     progress.grid_size = run.grid_size;
     progress.learner = learner.state();
     progress.buffer = buffer.state();
-    progress.save(run.checkpoint_path);
+    saveLearningCheckpoint(run.checkpoint_path, progress);
     ++run.checkpoints_written;
     progress.learner = OnlineDictionaryLearner::State();  // copies not kept between checkpoints
     progress.buffer = PatchShuffleBuffer::State();
@@ -515,9 +517,9 @@ int learnAndReport(const Arguments& args, LearnRun& run, const Ranks& ranks)
                         std::to_string(run.grid_size) + " bins, " +
                         std::to_string(static_cast<int>(100.0 * observed_fraction + 0.5)) + " % observed");
     timer.start("save");
-    run.dictionary.save(run.output);
+    savePatchDictionary(run.output, run.dictionary);
     if (!run.png.empty())
-      run.dictionary.saveAtomsPNG(run.png);
+      saveDictionaryAtomsPNG(run.png, run.dictionary);
   }
   timer.stop();
 

@@ -1,5 +1,6 @@
 // `pcl_patchdict patches IN -o X.pds`: the height-map patch set of a surface (section 3.2 of the
 // paper), in the input's unit-cube units, with an optional PNG contact sheet.
+#include <pcl_patchdict/io/patch_set_io.h>
 #include "cli.h"
 #include "options.h"
 #include "surface_patches.h"
@@ -52,9 +53,9 @@ int runPatches(const std::vector<std::string>& raw)
                   std::to_string(options.grid_size) + " bins, " +
                   std::to_string(static_cast<int>(100.0 * patches.observedFraction() + 0.5)) + " % observed");
   timer.start("save");
-  patches.save(output);
+  savePatchSet(output, patches);
   if (!png.empty())
-    patches.savePNG(png, 20, 4, kSheetPatches);
+    savePatchSetPNG(png, patches, 20, 4, kSheetPatches);
   timer.stop();
 
   if (args.has("json")) {

@@ -3,11 +3,12 @@
 #include "cli.h"
 #include "options.h"
 
-#include <pcl_patchdict/io/atomic_file.h>
+#include <pcl_patchdict/core/atomic_file.h>
 #include <pcl_patchdict/geometry/mesh_hygiene.h>
 #include <pcl_patchdict_eval/mesh_render.h>
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/quads/patch_layout.h>
+#include <pcl_patchdict/io/mesh_io.h>
 
 #include <array>
 #include <iostream>

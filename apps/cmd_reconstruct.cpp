@@ -10,6 +10,7 @@
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
 #include <pcl_patchdict/patches/patch_mesh_reconstruction.h>
+#include <pcl_patchdict/io/patch_dictionary_io.h>
 
 #include <cmath>
 #include <cstdio>
@@ -227,7 +228,7 @@ int runReconstruct(const std::vector<std::string>& raw)
   TriangleMesh reference = loadMesh(line.input, line.quiet);
   PatchDictionary::Ptr dictionary;
   if (args.has("dict"))
-    dictionary = PatchDictionary::load(args.get("dict"), line.grid_size);
+    dictionary = loadPatchDictionary(args.get("dict"), line.grid_size);
   if (reference.faces.empty())
     return reconstructCloud(args, line, std::move(reference), dictionary, timer);
   return reconstructMesh(args, line, std::move(reference), dictionary, timer);

@@ -5,6 +5,7 @@
 
 #include <pcl_patchdict/coding/patch_shuffle_buffer.h>
 #include <pcl_patchdict/core/error.h>
+#include <pcl_patchdict/io/learning_checkpoint_io.h>
 
 #include <algorithm>
 #include <chrono>
@@ -534,18 +535,18 @@ private:
       LearningCheckpoint part;
       part.num_inputs = job_.paths.size();
       part.shards.push_back(local_.front()->progress());
-      mine = part.toBytes();
+      mine = formatLearningCheckpoint(part);
     });
     if (ranks_.size() > 1) {
       const std::vector<std::string> parts = ranks_.gatherBytes(mine);
       ranks_.agree([&]() {
         for (const std::string& bytes : parts)
-          checkpoint.shards.push_back(LearningCheckpoint::fromBytes(bytes, "a rank's progress").shards.front());
+          checkpoint.shards.push_back(parseLearningCheckpoint(bytes, "a rank's progress").shards.front());
       });
     }
     ranks_.agree([&]() {
       if (ranks_.rank() == 0)
-        checkpoint.save(job_.checkpoint_path);
+        saveLearningCheckpoint(job_.checkpoint_path, checkpoint);
     });
     ++result_.checkpoints_written;
   }

@@ -4,6 +4,7 @@
 #include "learn_inputs.h"
 
 #include <pcl_patchdict/io/mesh_io.h>
+#include <pcl_patchdict/io/patch_set_io.h>
 
 #include <chrono>
 #include <system_error>
@@ -23,7 +24,7 @@ PatchSet loadInputPatches(const std::string& path, SurfacePatchOptions options, 
 {
   PatchSet patches;
   if (readsAsPatchSet(path)) {
-    patches = PatchSet::load(path);
+    patches = loadPatchSet(path);
   } else {
     if (grid_size > 0)
       options.grid_size = grid_size;
@@ -54,7 +55,7 @@ void PatchCache::store(std::size_t input, const PatchSet& patches, bool quiet)
                  std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
       std::filesystem::create_directories(folder_);
     }
-    patches.save(file(input));
+    savePatchSet(file(input), patches);
     stored_[input] = true;
     bytes_ += std::filesystem::file_size(file(input));
   } catch (const std::exception& error) {  // a full disk, say: the patches are made again instead

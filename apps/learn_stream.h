@@ -5,6 +5,7 @@
 #include "surface_patches.h"
 
 #include <pcl_patchdict/patches/patch_set.h>
+#include <pcl_patchdict/io/patch_set_io.h>
 
 #include <cstdint>
 #include <filesystem>
@@ -34,7 +35,7 @@ public:
   PatchCache& operator=(const PatchCache&) = delete;
   ~PatchCache();
   bool has(std::size_t input) const { return stored_[input]; }
-  PatchSet load(std::size_t input) const { return PatchSet::load(file(input)); }
+  PatchSet load(std::size_t input) const { return loadPatchSet(file(input)); }
   void store(std::size_t input, const PatchSet& patches, bool quiet);
   std::uintmax_t bytes() const { return bytes_; }
 

@@ -5,7 +5,7 @@
 #include "options.h"
 
 #include <pcl_patchdict/coding/sparse_coding.h>
-#include <pcl_patchdict/io/atomic_file.h>
+#include <pcl_patchdict/core/atomic_file.h>
 
 #include <exception>
 #ifdef __GLIBC__

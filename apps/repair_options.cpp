@@ -1,4 +1,5 @@
 // Shared options and reporting of the repair subcommands (see repair_options.h).
+#include <pcl_patchdict/io/patch_dictionary_io.h>
 #include "repair_options.h"
 #include "cloud_input.h"
 #include "repair_report.h"
@@ -103,7 +104,7 @@ RepairInputs loadRepairInputs(const RepairCommandLine& line, int grid_size, cons
   timer.start("load");
   inputs.mesh = loadRepairMesh(line.in_path, line.quiet, command);
   if (line.args.has("dict"))
-    inputs.dictionary = PatchDictionary::load(line.args.get("dict"), grid_size);
+    inputs.dictionary = loadPatchDictionary(line.args.get("dict"), grid_size);
   return inputs;
 }
 

@@ -3,7 +3,7 @@
 // written here.
 #include "repair_report.h"
 
-#include <pcl_patchdict/io/atomic_file.h>
+#include <pcl_patchdict/core/atomic_file.h>
 #include <pcl_patchdict_eval/mesh_render.h>
 #include <pcl_patchdict_eval/repair_figure.h>
 #include <pcl_patchdict/geometry/metrics.h>

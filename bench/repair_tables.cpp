@@ -23,6 +23,7 @@
 #include <pcl_patchdict/repair/patch_correction.h>
 #include <pcl_patchdict/repair/patch_repairs.h>
 #include <pcl_patchdict/geometry/taubin_smoothing.h>
+#include <pcl_patchdict/io/patch_dictionary_io.h>
 
 #include <chrono>
 #include <cstdio>
@@ -356,7 +357,7 @@ int main(int argc, char** argv)
   }
   try {
     if (!dictionary_path.empty())
-      settings.global = PatchDictionary::load(dictionary_path);
+      settings.global = loadPatchDictionary(dictionary_path);
     Tables tables(settings.global != nullptr, settings.local);
     for (const std::string& path : meshes)
       meshRows(path, settings, tables);

@@ -4,7 +4,7 @@
 #include <pcl_patchdict_eval/mesh_render.h>
 
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/io/atomic_file.h>
+#include <pcl_patchdict/core/atomic_file.h>
 #include <pcl_patchdict/io/png_writer.h>
 
 #include <Eigen/Geometry>

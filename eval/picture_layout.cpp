@@ -2,7 +2,7 @@
 #include <pcl_patchdict_eval/picture_layout.h>
 
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/io/atomic_file.h>
+#include <pcl_patchdict/core/atomic_file.h>
 #include <pcl_patchdict/io/png_writer.h>
 
 #include <algorithm>

@@ -7,6 +7,7 @@
 #include <pcl_patchdict/pcl/height_map_patch_extractor.h>
 #include <pcl_patchdict/pcl/patch_histograms.h>
 #include <pcl_patchdict/pcl/quad_frame_estimation.h>
+#include <pcl_patchdict/io/patch_dictionary_io.h>
 
 #include <pcl/common/io.h>  // pcl::copyPointCloud
 #include <pcl/io/pcd_io.h>
@@ -74,7 +75,7 @@ int main(int argc, char** argv)
     options.sparsity = 6;
     options.iterations = 10;
     const auto dictionary = pcl::patchdict::learnPatchDictionary(patches, options);
-    dictionary.save(argv[2]);
+    savePatchDictionary(argv[2], dictionary);
     const auto codes = pcl::patchdict::encodePatches(dictionary, patches, {6, 0.0});
     pcl::PointCloud<pcl::Histogram<256>> decoded;  // every bin, the unobserved ones filled
     pcl::patchdict::decodePatches(dictionary, codes, decoded);

@@ -4,12 +4,13 @@
 #include "fuzz_common.h"
 
 #include <pcl_patchdict/codec/patch_codec.h>
+#include <pcl_patchdict/io/patch_dictionary_io.h>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
   static const pcl::patchdict::PatchCodec codec = [] {
     pcl::patchdict::PatchCodec c;
-    c.setDictionary(pcl::patchdict::PatchDictionary::load(PCL_PATCHDICT_FUZZ_DIR "/pdc_dictionary.pdd"));
+    c.setDictionary(pcl::patchdict::loadPatchDictionary(PCL_PATCHDICT_FUZZ_DIR "/pdc_dictionary.pdd"));
     pcl::patchdict::PatchCodecParameters parameters;
     parameters.num_threads = 1;
     c.setParameters(parameters);

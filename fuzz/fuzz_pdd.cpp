@@ -1,13 +1,14 @@
-// libFuzzer target: the .pdd dictionary reader (PatchDictionary::fromBytes).
+// libFuzzer target: the .pdd dictionary reader (parsePatchDictionary).
 #include "fuzz_common.h"
 
 #include <pcl_patchdict/coding/patch_dictionary.h>
+#include <pcl_patchdict/io/patch_dictionary_io.h>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
   pcl::patchdict::PatchDictionary::Ptr dictionary;
   try {
-    dictionary = pcl::patchdict::PatchDictionary::fromBytes(fuzz::withValidChecksum(data, size));
+    dictionary = pcl::patchdict::parsePatchDictionary(fuzz::withValidChecksum(data, size));
   }
   catch (const pcl::patchdict::Error&) {
     return 0;

@@ -1,15 +1,16 @@
-// libFuzzer target: the .pdk checkpoint reader (LearningCheckpoint::fromBytes) and the state checks
+// libFuzzer target: the .pdk checkpoint reader (parseLearningCheckpoint) and the state checks
 // a resumed run applies to what it read (OnlineDictionaryLearner / PatchShuffleBuffer::setState).
 #include "fuzz_common.h"
 
 #include <pcl_patchdict/coding/learning_checkpoint.h>
+#include <pcl_patchdict/io/learning_checkpoint_io.h>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
   using namespace pcl::patchdict;
   LearningCheckpoint checkpoint;
   try {
-    checkpoint = LearningCheckpoint::fromBytes(fuzz::withValidChecksum(data, size));
+    checkpoint = parseLearningCheckpoint(fuzz::withValidChecksum(data, size));
   }
   catch (const Error&) {
     return 0;

@@ -1,13 +1,14 @@
-// libFuzzer target: the .pds patch-set reader (PatchSet::fromBytes).
+// libFuzzer target: the .pds patch-set reader (parsePatchSet).
 #include "fuzz_common.h"
 
 #include <pcl_patchdict/patches/patch_set.h>
+#include <pcl_patchdict/io/patch_set_io.h>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
   pcl::patchdict::PatchSet set;
   try {
-    set = pcl::patchdict::PatchSet::fromBytes(fuzz::withValidChecksum(data, size));
+    set = pcl::patchdict::parsePatchSet(fuzz::withValidChecksum(data, size));
   }
   catch (const pcl::patchdict::Error&) {
     return 0;

@@ -1,6 +1,7 @@
 #include "test_support.h"
 
 #include <pcl_patchdict/patches/patch_set.h>
+#include <pcl_patchdict/io/patch_set_io.h>
 
 #include <algorithm>
 #include <array>
@@ -155,7 +156,7 @@ void writePatchSet(const std::string& path, std::uint64_t seed, int count)
         set.heights(b, p) = 0.0;
       }
   }
-  set.save(path);
+  savePatchSet(path, set);
 }
 
 std::string q(const std::string& path) { return "'" + path + "'"; }

@@ -1,7 +1,6 @@
 // PatchCodec: quad mesh + sparse codes (Sarkar et al. 2017, section 5.2), encoder and decoder.
 #include <pcl_patchdict/codec/patch_codec.h>
 
-#include <pcl_patchdict/io/atomic_file.h>
 #include <pcl_patchdict/geometry/coarse_mesh_estimation.h>
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/patches/height_maps.h>
@@ -515,16 +514,6 @@ void PatchCodec::decode(const std::string& bytes, TriangleMesh& out, Report* rep
     local.output_faces = out.faces.size();
     *report = local;
   }
-}
-
-void PatchCodec::compress(const TriangleMesh& mesh, const std::string& path, Report* report) const
-{
-  writeFileAtomically(path, encode(mesh, report));
-}
-
-void PatchCodec::decompress(const std::string& path, TriangleMesh& out, Report* report) const
-{
-  decode(readWholeFile(path), out, report, "'" + path + "': ");
 }
 
 }  // namespace patchdict

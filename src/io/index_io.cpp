@@ -1,4 +1,4 @@
-#include <pcl_patchdict/io/atomic_file.h>
+#include <pcl_patchdict/core/atomic_file.h>
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/io/index_io.h>
 

@@ -8,7 +8,7 @@
 
 #include "io/formats.h"
 
-#include <pcl_patchdict/io/atomic_file.h>
+#include <pcl_patchdict/core/atomic_file.h>
 
 #include <atomic>
 #include <cerrno>
@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 #include <new>
+#include <sstream>
 #include <stdexcept>
 #include <type_traits>
 
@@ -360,6 +361,39 @@ void writeMesh(const std::string& path, const TriangleMesh& mesh, const WriteOpt
   default: break;
   }
   writeFileAtomically(path, bytes);
+}
+
+void writeQuadMesh(const std::string& path, const QuadMesh& mesh)
+{
+  const MeshFormat format = formatFromPath(path);
+  std::ostringstream out;
+  out.precision(17);
+  if (format == MeshFormat::OBJ) {
+    out << "# quad-dominant mesh written by pcl_patchdict\n";
+    for (const auto& v : mesh.vertices)
+      out << "v " << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
+    for (const auto& face : mesh.faces) {
+      out << 'f';
+      for (const std::int32_t v : face)
+        out << ' ' << v + 1;
+      out << '\n';
+    }
+  } else if (format == MeshFormat::PLY) {
+    out << "ply\nformat ascii 1.0\ncomment quad-dominant mesh written by pcl_patchdict\nelement vertex "
+        << mesh.vertices.size() << "\nproperty double x\nproperty double y\nproperty double z\nelement face "
+        << mesh.faces.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const auto& v : mesh.vertices)
+      out << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
+    for (const auto& face : mesh.faces) {
+      out << face.size();
+      for (const std::int32_t v : face)
+        out << ' ' << v;
+      out << '\n';
+    }
+  } else {
+    throw Error("cannot write '" + path + "': a quad mesh is written as .obj or .ply");
+  }
+  writeFileAtomically(path, out.str());
 }
 
 }  // namespace patchdict

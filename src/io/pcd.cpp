@@ -4,7 +4,7 @@
 
 #include "io/formats.h"
 
-#include <pcl_patchdict/io/atomic_file.h>
+#include <pcl_patchdict/core/atomic_file.h>
 #include <pcl_patchdict/pcl/conversions.h>
 
 #include <algorithm>

@@ -1,9 +1,7 @@
-// QuadMesh statistics and polygon output.
+// QuadMesh statistics (its polygon file: io/mesh_io.h, writeQuadMesh).
 #include <pcl_patchdict/quads/quad_mesh.h>
 
-#include <pcl_patchdict/io/atomic_file.h>
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/io/mesh_io.h>
 
 #include <Eigen/Geometry>
 
@@ -102,39 +100,6 @@ QuadMeshStatistics computeQuadMeshStatistics(const QuadMesh& mesh)
   s.interior_valence4_fraction =
       s.interior_vertices ? static_cast<double>(valence4) / static_cast<double>(s.interior_vertices) : 0.0;
   return s;
-}
-
-void writeQuadMesh(const std::string& path, const QuadMesh& mesh)
-{
-  const MeshFormat format = formatFromPath(path);
-  std::ostringstream out;
-  out.precision(17);
-  if (format == MeshFormat::OBJ) {
-    out << "# quad-dominant mesh written by pcl_patchdict\n";
-    for (const auto& v : mesh.vertices)
-      out << "v " << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
-    for (const auto& face : mesh.faces) {
-      out << 'f';
-      for (const std::int32_t v : face)
-        out << ' ' << v + 1;
-      out << '\n';
-    }
-  } else if (format == MeshFormat::PLY) {
-    out << "ply\nformat ascii 1.0\ncomment quad-dominant mesh written by pcl_patchdict\nelement vertex "
-        << mesh.vertices.size() << "\nproperty double x\nproperty double y\nproperty double z\nelement face "
-        << mesh.faces.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
-    for (const auto& v : mesh.vertices)
-      out << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
-    for (const auto& face : mesh.faces) {
-      out << face.size();
-      for (const std::int32_t v : face)
-        out << ' ' << v;
-      out << '\n';
-    }
-  } else {
-    throw Error("cannot write '" + path + "': a quad mesh is written as .obj or .ply");
-  }
-  writeFileAtomically(path, out.str());
 }
 
 }  // namespace patchdict

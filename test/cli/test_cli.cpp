@@ -2,6 +2,7 @@
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
 #include <pcl_patchdict/patches/patch_set.h>
+#include <pcl_patchdict/io/patch_dictionary_io.h>
 #include <pcl_patchdict_eval/shapes.h>
 
 #include "test_support.h"
@@ -242,7 +243,7 @@ TEST(Cli, LearnFromPatchFiles)
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(jsonNumber(result.out, "patches"), 600.0);
   EXPECT_LT(jsonNumber(result.out, "final_rmse"), 1e-3);  // the family has rank 3: 12 atoms fit it
-  const auto dictionary = PatchDictionary::load(dir.file("d.pdd"), 8);
+  const auto dictionary = loadPatchDictionary(dir.file("d.pdd"), 8);
   EXPECT_EQ(dictionary->atoms().cols(), 12);
   EXPECT_EQ(test_support::readFile(dir.file("atoms.png")).substr(1, 3), "PNG");
   // Online learning streams the files (one in memory at a time).
@@ -250,7 +251,7 @@ TEST(Cli, LearnFromPatchFiles)
                    " --method online --atoms 12 --sparsity 4 --iterations 5 --batch 64 --json");
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(jsonNumber(result.out, "patches"), 600.0);
-  const auto online = PatchDictionary::load(dir.file("o.pdd"), 8);
+  const auto online = loadPatchDictionary(dir.file("o.pdd"), 8);
   EXPECT_EQ(online->atoms().cols(), 12);
   EXPECT_EQ(online->trainingPatches(), 600u);
   // Two inputs default to online learning (a global dictionary).

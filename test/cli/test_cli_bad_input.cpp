@@ -6,6 +6,7 @@
 // triangle may be refused a quad layout or an inpainting, cleanly), and a result must be finite and at the input's scale.
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
+#include <pcl_patchdict/io/patch_dictionary_io.h>
 #include <pcl_patchdict_eval/shapes.h>
 
 #include "test_support.h"
@@ -56,8 +57,8 @@ public:
     sphere_ = makeIcosphere(3);
     writeMesh(file("sphere.ply"), sphere_);
     writeMesh(file("sphere.obj"), sphere_);
-    randomDictionary(16, 24, 1).save(file("dict16.pdd"));
-    randomDictionary(6, 12, 2).save(file("dict6.pdd"));
+    savePatchDictionary(file("dict16.pdd"), randomDictionary(16, 24, 1));
+    savePatchDictionary(file("dict6.pdd"), randomDictionary(6, 12, 2));
     put("missing.txt", "0\n7\n14\n21\n");
 
     const std::string ply = test_support::readFile(file("sphere.ply"));

@@ -3,6 +3,7 @@
 #include <pcl_patchdict/io/mesh_io.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
 #include <pcl_patchdict/patches/patch_set.h>
+#include <pcl_patchdict/io/patch_dictionary_io.h>
 #include <pcl_patchdict_eval/shapes.h>
 
 #include "test_support.h"
@@ -91,7 +92,7 @@ TEST(CliLearn, SurfacesGoThroughThePatchStage)
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(jsonString(result.out, "method"), "ksvd");
   EXPECT_GT(jsonNumber(result.out, "patches"), 30.0);
-  const auto local = PatchDictionary::load(dir.file("local.pdd"), 8);
+  const auto local = loadPatchDictionary(dir.file("local.pdd"), 8);
   EXPECT_EQ(local->atoms().rows(), 64);
   EXPECT_EQ(local->atoms().cols(), 16);
   EXPECT_EQ(static_cast<double>(local->trainingPatches()), jsonNumber(result.out, "patches"));
@@ -107,7 +108,7 @@ TEST(CliLearn, SurfacesGoThroughThePatchStage)
   EXPECT_EQ(jsonString(result.out, "method"), "online");
   EXPECT_EQ(jsonNumber(result.out, "inputs"), 2.0);
   EXPECT_EQ(jsonNumber(result.out, "grid_size"), 8.0);
-  EXPECT_EQ(PatchDictionary::load(dir.file("global.pdd"), 8)->atoms().cols(), 16);
+  EXPECT_EQ(loadPatchDictionary(dir.file("global.pdd"), 8)->atoms().cols(), 16);
   // A .pds of another grid among them is refused, naming both grids.
   writePatchSet(dir.file("shapes/zz.pds"), 3);  // 8×8
   result = runTool("learn " + q(dir.file("shapes")) + " -o " + q(dir.file("mixed.pdd")) +

@@ -2,6 +2,8 @@
 // bits), bad inputs on one rank stopping every rank with one error line, or skipped by all.
 #include <pcl_patchdict/coding/patch_dictionary.h>
 #include <pcl_patchdict/patches/patch_set.h>
+#include <pcl_patchdict/io/patch_dictionary_io.h>
+#include <pcl_patchdict/io/patch_set_io.h>
 
 #include "test_support.h"
 
@@ -64,11 +66,11 @@ TEST(CliLearnShards, ShardsInOneProcessSplitTheInputsAndCodeEveryPatch)
   EXPECT_EQ(jsonNumber(two.out, "patches"), 600.0);
   // Dealt by size: input 3 (250 patches) to shard 1, inputs 2 and 1 (200 + 150) to shard 2; two passes.
   EXPECT_NE(two.out.find("\"patches_coded_per_shard\": [500,700]"), std::string::npos) << two.out;
-  const auto d1 = PatchDictionary::load(dir.file("one.pdd"));
-  const auto d2 = PatchDictionary::load(dir.file("two.pdd"));
+  const auto d1 = loadPatchDictionary(dir.file("one.pdd"));
+  const auto d2 = loadPatchDictionary(dir.file("two.pdd"));
   // Other batches, so another dictionary; both describe these patches within 5 % of their RMS.
   EXPECT_GT((d1->atoms() - d2->atoms()).cwiseAbs().maxCoeff(), 1e-3);
-  const PatchSet all = PatchSet::load(dir.file("s2.pds"));
+  const PatchSet all = loadPatchSet(dir.file("s2.pds"));
   const auto error = [&](const PatchDictionary& d) {
     const SparseCodingParameters coding{3, 0.0};
     return observedRMSE(d.decode(d.encodeMasked(all.heights, all.observed, coding)), all.heights, all.observed);

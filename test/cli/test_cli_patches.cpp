@@ -4,6 +4,7 @@
 #include <pcl_patchdict/geometry/metrics.h>
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/patches/patch_set.h>
+#include <pcl_patchdict/io/patch_set_io.h>
 #include <pcl_patchdict_eval/shapes.h>
 
 #include "test_support.h"
@@ -56,7 +57,7 @@ TEST(CliPatches, WritesALoadablePatchSetAndASheetDeterministically)
   auto result = runTool("patches " + q(dir.file("relief.ply")) + " -o " + q(dir.file("a.pds")) + " --png " +
                         q(dir.file("a.png")) + common);
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  const PatchSet patches = PatchSet::load(dir.file("a.pds"));
+  const PatchSet patches = loadPatchSet(dir.file("a.pds"));
   EXPECT_EQ(patches.grid_size, 8);
   EXPECT_NEAR(patches.radius, 0.06 / std::sqrt(2.0), 1e-15);  // unit-cube units
   EXPECT_EQ(static_cast<double>(patches.numPatches()), jsonNumber(result.out, "patches"));
@@ -165,7 +166,7 @@ TEST(CliPatches, PatchesOfACloudGoThroughItsPoissonSurface)
   // The automatic depth is clamped to [5, 10] (CoarseMeshEstimation).
   EXPECT_GE(jsonNumber(result.out, "poisson_depth"), 5.0);
   EXPECT_LE(jsonNumber(result.out, "poisson_depth"), 10.0);
-  const PatchSet patches = PatchSet::load(dir.file("c.pds"));
+  const PatchSet patches = loadPatchSet(dir.file("c.pds"));
   EXPECT_GT(patches.numPatches(), 100u);
   // Binned points, not exact heights: most bins see no point of this sparse cloud (2562 points;
   // measured 12.7 % observed).

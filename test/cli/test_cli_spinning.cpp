@@ -4,6 +4,7 @@
 #include "test_support.h"
 
 #include <pcl_patchdict/cloud/sensor_model.h>
+#include <pcl_patchdict/io/sensor_model_io.h>
 
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/io/pcd_io.h>

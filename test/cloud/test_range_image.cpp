@@ -9,6 +9,7 @@
 #include <pcl_patchdict/cloud/range_image_repair.h>
 #include <pcl_patchdict/cloud/sensor_model.h>
 #include <pcl_patchdict/core/error.h>
+#include <pcl_patchdict/io/sensor_model_io.h>
 #include <gtest/gtest.h>
 #include <algorithm>
 #include <cmath>

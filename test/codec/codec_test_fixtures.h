@@ -6,6 +6,7 @@
 #include <pcl_patchdict/coding/patch_dictionary.h>
 #include <pcl_patchdict/core/triangle_mesh.h>
 #include <pcl_patchdict/io/mesh_io.h>
+#include <pcl_patchdict/io/patch_dictionary_io.h>
 
 #include "test_support.h"
 
@@ -27,7 +28,7 @@ inline std::string bunnyDictionaryPath() { return test_support::testDataDir() + 
 /** learnBunnyDictionary(bunny, 1) as stored in test/data, so that the codec tests do not each learn
   * it again; FixtureDictionaryIsTheBunnysOwn learns it once (1.8 s, 23.8 s under the sanitizers,
   * learning and checking), checks the fixture and rewrites it with PCL_PATCHDICT_WRITE_FIXTURES=1. */
-inline PatchDictionary::Ptr bunnyDictionary() { return PatchDictionary::load(bunnyDictionaryPath(), 16); }
+inline PatchDictionary::Ptr bunnyDictionary() { return loadPatchDictionary(bunnyDictionaryPath(), 16); }
 
 /** A codec with bunnyDictionary(), its parameters still the defaults (the test gives them). */
 inline PatchCodec bunnyCodec()

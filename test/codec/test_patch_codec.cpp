@@ -8,6 +8,8 @@
 #include <pcl_patchdict/codec/patch_codec.h>
 #include <pcl_patchdict/quads/patch_layout.h>
 #include <pcl_patchdict/quads/quad_subdivision.h>
+#include <pcl_patchdict/io/patch_codec_io.h>
+#include <pcl_patchdict/io/patch_dictionary_io.h>
 #include <pcl_patchdict_eval/shapes.h>
 
 #include "test_support.h"
@@ -113,7 +115,7 @@ TEST(PatchCodec, FixtureDictionaryIsTheBunnysOwn)
   const TriangleMesh bunny = loadBunny();
   const auto learned = learnBunnyDictionary(bunny);
   if (std::getenv("PCL_PATCHDICT_WRITE_FIXTURES"))
-    learned->save(bunnyDictionaryPath());
+    savePatchDictionary(bunnyDictionaryPath(), *learned);
   const auto stored = bunnyDictionary();
   ASSERT_EQ(stored->atoms().cols(), 48);
   const PatchSet patches = bunnyPatches(bunny);
@@ -170,10 +172,10 @@ TEST(PatchCodec, BunnyRoundTripIsSmallAccurateAndDeterministic)
 
   // Through a file.
   test_support::TempDir dir;
-  codec.compress(bunny, dir.file("bunny.pdc"));
+  saveCompressedMesh(dir.file("bunny.pdc"), codec, bunny);
   EXPECT_TRUE(test_support::readFile(dir.file("bunny.pdc")) == bytes);
   TriangleMesh from_file;
-  codec.decompress(dir.file("bunny.pdc"), from_file);
+  loadCompressedMesh(dir.file("bunny.pdc"), codec, from_file);
   EXPECT_TRUE(from_file.vertices == decoded.vertices);
 }
 

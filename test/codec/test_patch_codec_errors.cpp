@@ -9,6 +9,7 @@
 #include <pcl_patchdict/codec/patch_codec.h>
 #include <pcl_patchdict/quads/patch_layout.h>
 #include <pcl_patchdict/quads/quad_subdivision.h>
+#include <pcl_patchdict/io/patch_dictionary_io.h>
 #include <pcl_patchdict_eval/shapes.h>
 
 #include "test_support.h"
@@ -256,7 +257,7 @@ TEST(PatchCodec, CommandsCompressDecompressAndFailInOneLine)
 {
   test_support::TempDir dir;
   const TriangleMesh bunny = loadBunny();
-  bunnyDictionary()->save(dir.file("dict.pdd"));
+  savePatchDictionary(dir.file("dict.pdd"), *bunnyDictionary());
   const std::string input = test_support::dataDir() + "/bunny.obj";
   const std::string before = test_support::readFile(input);
   auto result = runTool("compress " + q(input) + " --dict " + q(dir.file("dict.pdd")) + " -o " +
@@ -284,7 +285,7 @@ TEST(PatchCodec, CommandsCompressDecompressAndFailInOneLine)
   EXPECT_EQ(result.exit_code, 1);
   EXPECT_TRUE(test_support::endsWithOneErrorLine(result.err)) << result.err;
   EXPECT_EQ(test_support::readFile(dir.file("cut.ply")), "");
-  otherDictionary(3)->save(dir.file("other.pdd"));
+  savePatchDictionary(dir.file("other.pdd"), *otherDictionary(3));
   result = runTool("decompress " + q(dir.file("b.pdc")) + " --dict " + q(dir.file("other.pdd")) + " -o " +
                    q(dir.file("o.ply")));
   EXPECT_EQ(result.exit_code, 1);
@@ -351,7 +352,7 @@ TEST(PatchCodec, ReadsFormatVersion2AndRefusesOtherVersions)
   // -0.33471924), |coordinates| to 765.2799970).
   const std::string source = PCL_PATCHDICT_TEST_DATA_DIR "/../../fuzz/";
   PatchCodec codec;
-  codec.setDictionary(PatchDictionary::load(source + "pdc_dictionary.pdd"));
+  codec.setDictionary(loadPatchDictionary(source + "pdc_dictionary.pdd"));
   std::ifstream file(source + "corpus/pdc/sphere_pin_coverage.pdc", std::ios::binary);
   const std::string version2((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
   ASSERT_EQ(version2.substr(0, 5), std::string("PDCv\x02"));

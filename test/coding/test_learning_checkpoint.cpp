@@ -4,6 +4,7 @@
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/coding/learning_checkpoint.h>
 #include <pcl_patchdict/coding/patch_shuffle_buffer.h>
+#include <pcl_patchdict/io/learning_checkpoint_io.h>
 
 #include "test_support.h"
 
@@ -61,9 +62,9 @@ TEST(LearningCheckpoint, StoppedAndResumedStreamGivesTheSameDictionary)
     checkpoint.num_inputs = 5;
     checkpoint.learner = learner.state();
     checkpoint.buffer = buffer.state();
-    bytes = checkpoint.toBytes();
+    bytes = formatLearningCheckpoint(checkpoint);
   }
-  const LearningCheckpoint loaded = LearningCheckpoint::fromBytes(bytes);
+  const LearningCheckpoint loaded = parseLearningCheckpoint(bytes);
   EXPECT_EQ(loaded.next_input, 3u);
   ASSERT_EQ(loaded.settings.size(), 1u);
   EXPECT_EQ(loaded.settings[0].second, "10");
@@ -91,11 +92,11 @@ TEST(LearningCheckpoint, DamagedFilesAreRefused)
   LearningCheckpoint checkpoint;
   checkpoint.num_inputs = 1;
   checkpoint.learner = learner.state();
-  const std::string bytes = checkpoint.toBytes();
-  EXPECT_NO_THROW(LearningCheckpoint::fromBytes(bytes));
+  const std::string bytes = formatLearningCheckpoint(checkpoint);
+  EXPECT_NO_THROW(parseLearningCheckpoint(bytes));
   const auto refusal = [](const std::string& damaged) {
     try {
-      LearningCheckpoint::fromBytes(damaged, "x.pdk");
+      parseLearningCheckpoint(damaged, "x.pdk");
     } catch (const Error& error) {
       return std::string(error.what());
     }
@@ -273,10 +274,10 @@ TEST(LearningCheckpoint, ShardProgressRoundTripsBitForBit)
     shard.ready_masks = {someHidden(16, 10), ObservationMask()};
     checkpoint.shards.push_back(shard);
   }
-  const std::string bytes = checkpoint.toBytes();
-  const LearningCheckpoint back = LearningCheckpoint::fromBytes(bytes);
+  const std::string bytes = formatLearningCheckpoint(checkpoint);
+  const LearningCheckpoint back = parseLearningCheckpoint(bytes);
   ASSERT_EQ(back.shards.size(), 2u);
-  EXPECT_EQ(back.toBytes(), bytes);
+  EXPECT_EQ(formatLearningCheckpoint(back), bytes);
   EXPECT_EQ(back.shards[0].begun, 2u);
   EXPECT_TRUE(back.shards[0].streaming);
   EXPECT_TRUE(back.shards[1].flushed);
@@ -287,5 +288,5 @@ TEST(LearningCheckpoint, ShardProgressRoundTripsBitForBit)
   EXPECT_EQ(back.learner.dictionary, checkpoint.learner.dictionary);
   // Cut anywhere, the file is refused with one line (the checksum, or a size before it).
   for (std::size_t cut : {bytes.size() - 1, bytes.size() / 2, std::size_t(40)})
-    EXPECT_THROW(LearningCheckpoint::fromBytes(bytes.substr(0, cut)), Error);
+    EXPECT_THROW(parseLearningCheckpoint(bytes.substr(0, cut)), Error);
 }

@@ -4,6 +4,7 @@
 #include <pcl_patchdict/core/normalization.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
 #include <pcl_patchdict/core/surface_sampling.h>
+#include <pcl_patchdict/io/patch_dictionary_io.h>
 
 #include "test_support.h"
 
@@ -88,8 +89,8 @@ TEST(PatchDictionary, SaveLoadIsBitExact)
   test_support::TempDir dir;
   const auto dictionary = smallDictionary();
   dictionary->setRemoveMean(true);
-  dictionary->save(dir.file("d.pdd"));
-  const auto loaded = PatchDictionary::load(dir.file("d.pdd"), 8);
+  savePatchDictionary(dir.file("d.pdd"), *dictionary);
+  const auto loaded = loadPatchDictionary(dir.file("d.pdd"), 8);
   EXPECT_EQ(loaded->gridSize(), 8);
   EXPECT_TRUE(loaded->getRemoveMean());
   ASSERT_EQ(loaded->atoms().size(), dictionary->atoms().size());
@@ -110,8 +111,8 @@ TEST(PatchDictionary, TheLearningOptionsAreRecordedAndComeBackFromTheFile)
   options.seed = 9;
   PatchDictionary learned;
   learned.learn(patches, options);
-  learned.save(dir.file("learned.pdd"));
-  const auto loaded = PatchDictionary::load(dir.file("learned.pdd"));
+  savePatchDictionary(dir.file("learned.pdd"), learned);
+  const auto loaded = loadPatchDictionary(dir.file("learned.pdd"));
   for (const PatchDictionary* d : {&learned, loaded.get()}) {
     EXPECT_EQ(d->learnedWith().num_atoms, 10);
     EXPECT_EQ(d->learnedWith().sparsity, 3);
@@ -127,8 +128,8 @@ TEST(PatchDictionary, TheLearningOptionsAreRecordedAndComeBackFromTheFile)
   EXPECT_EQ(set.fingerprint(), set_otherwise.fingerprint());
   set_otherwise.setRemoveMean(true);
   EXPECT_NE(set.fingerprint(), set_otherwise.fingerprint());
-  set.save(dir.file("set.pdd"));
-  const auto set_loaded = PatchDictionary::load(dir.file("set.pdd"));
+  savePatchDictionary(dir.file("set.pdd"), set);
+  const auto set_loaded = loadPatchDictionary(dir.file("set.pdd"));
   EXPECT_EQ(set_loaded->learnedWith().method, LearningMethod::Online);
   EXPECT_EQ(set_loaded->trainingPatches(), 77u);
   options.num_atoms = 0;
@@ -138,12 +139,12 @@ TEST(PatchDictionary, TheLearningOptionsAreRecordedAndComeBackFromTheFile)
 TEST(PatchDictionary, EveryCorruptionIsRejected)
 {
   test_support::TempDir dir;
-  smallDictionary()->save(dir.file("good.pdd"));
+  savePatchDictionary(dir.file("good.pdd"), *smallDictionary());
   const std::string good = test_support::readFile(dir.file("good.pdd"));
   auto rejects = [&](const std::string& bytes, const std::string& expected, int grid = 0) {
     test_support::writeFile(dir.file("bad.pdd"), bytes);
     try {
-      PatchDictionary::load(dir.file("bad.pdd"), grid);
+      loadPatchDictionary(dir.file("bad.pdd"), grid);
       ADD_FAILURE() << "accepted a file that should fail with: " << expected;
     } catch (const Error& e) {
       EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
@@ -169,8 +170,8 @@ TEST(PatchDictionary, EveryCorruptionIsRejected)
   flipped[200] ^= 0x10;
   rejects(flipped, "checksum");
   rejects(good, "16×16 are needed", 16);
-  EXPECT_NO_THROW(PatchDictionary::load(dir.file("good.pdd"), 8));
-  EXPECT_THROW(PatchDictionary::load(dir.file("missing.pdd")), Error);
+  EXPECT_NO_THROW(loadPatchDictionary(dir.file("good.pdd"), 8));
+  EXPECT_THROW(loadPatchDictionary(dir.file("missing.pdd")), Error);
 }
 
 TEST(PatchDictionary, EncodeDecodeAndSizeChecks)
@@ -206,7 +207,7 @@ TEST(PatchDictionary, MeanRemovalRoundTrip)
 TEST(PatchDictionary, AtomsContactSheetIsAValidPNG)
 {
   test_support::TempDir dir;
-  smallDictionary()->saveAtomsPNG(dir.file("atoms.png"), 4, 3);
+  saveDictionaryAtomsPNG(dir.file("atoms.png"), *smallDictionary(), 4, 3);
   const std::string png = test_support::readFile(dir.file("atoms.png"));
   ASSERT_GT(png.size(), 33u);
   EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));

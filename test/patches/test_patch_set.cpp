@@ -4,6 +4,8 @@
 #include <pcl_patchdict/patches/height_maps.h>
 #include <pcl_patchdict/coding/patch_dictionary.h>
 #include <pcl_patchdict/patches/patch_set.h>
+#include <pcl_patchdict/io/patch_dictionary_io.h>
+#include <pcl_patchdict/io/patch_set_io.h>
 #include <pcl_patchdict_eval/shapes.h>
 
 #include <gtest/gtest.h>
@@ -49,7 +51,7 @@ PatchSet samplePatchSet()
 void expectOneLineError(const std::string& path, const std::string& needle = "")
 {
   try {
-    PatchSet::load(path);
+    loadPatchSet(path);
     ADD_FAILURE() << "loaded a damaged file";
   } catch (const Error& error) {
     const std::string message = error.what();
@@ -75,8 +77,8 @@ TEST(PatchSetIO, RoundTripIsBitExact)
   const PatchSet set = samplePatchSet();
   ASSERT_GT(set.observedFraction(), 0.2);
   ASSERT_LT(set.observedFraction(), 1.0);  // the mask matters in this round trip
-  set.save(dir.file("a.pds"));
-  const PatchSet loaded = PatchSet::load(dir.file("a.pds"));
+  savePatchSet(dir.file("a.pds"), set);
+  const PatchSet loaded = loadPatchSet(dir.file("a.pds"));
   EXPECT_EQ(loaded.grid_size, set.grid_size);
   EXPECT_EQ(std::memcmp(&loaded.radius, &set.radius, sizeof(double)), 0);
   ASSERT_EQ(loaded.numPatches(), set.numPatches());
@@ -87,7 +89,7 @@ TEST(PatchSetIO, RoundTripIsBitExact)
     EXPECT_EQ(std::memcmp(loaded.seeds[p].data(), set.seeds[p].data(), 3 * sizeof(double)), 0);
     EXPECT_EQ(std::memcmp(loaded.rotations[p].data(), set.rotations[p].data(), 9 * sizeof(double)), 0);
   }
-  loaded.save(dir.file("b.pds"));
+  savePatchSet(dir.file("b.pds"), loaded);
   EXPECT_EQ(test_support::readFile(dir.file("a.pds")), test_support::readFile(dir.file("b.pds")));
   EXPECT_DOUBLE_EQ(loaded.observedFraction(), set.observedFraction());
 }
@@ -100,8 +102,8 @@ TEST(PatchSetIO, EmptySetRoundTrips)
   set.radius = 0.02;
   set.heights.resize(256, 0);
   set.observed.resize(256, 0);
-  set.save(dir.file("e.pds"));
-  const PatchSet loaded = PatchSet::load(dir.file("e.pds"));
+  savePatchSet(dir.file("e.pds"), set);
+  const PatchSet loaded = loadPatchSet(dir.file("e.pds"));
   EXPECT_EQ(loaded.numPatches(), 0u);
   EXPECT_EQ(loaded.grid_size, 16);
   EXPECT_EQ(loaded.observedFraction(), 0.0);
@@ -110,7 +112,7 @@ TEST(PatchSetIO, EmptySetRoundTrips)
 TEST(PatchSetIO, TruncatedFilesAreRejected)
 {
   test_support::TempDir dir;
-  samplePatchSet().save(dir.file("a.pds"));
+  savePatchSet(dir.file("a.pds"), samplePatchSet());
   const std::string bytes = test_support::readFile(dir.file("a.pds"));
   for (const std::size_t length : {std::size_t{0}, std::size_t{5}, std::size_t{39}, std::size_t{47}, std::size_t{48},
                                    std::size_t{1000}, bytes.size() / 2, bytes.size() - 9, bytes.size() - 1}) {
@@ -125,7 +127,7 @@ TEST(PatchSetIO, TruncatedFilesAreRejected)
 TEST(PatchSetIO, CorruptedOrMismatchedFilesAreRejected)
 {
   test_support::TempDir dir;
-  samplePatchSet().save(dir.file("a.pds"));
+  savePatchSet(dir.file("a.pds"), samplePatchSet());
   const std::string bytes = test_support::readFile(dir.file("a.pds"));
 
   std::string flipped = bytes;
@@ -147,14 +149,14 @@ TEST(PatchSetIO, CorruptedOrMismatchedFilesAreRejected)
   // A dictionary is not a patch set.
   PatchDictionary dictionary;
   dictionary.setAtoms(Eigen::MatrixXd::Identity(4, 4));
-  dictionary.save(dir.file("d.pdd"));
+  savePatchDictionary(dir.file("d.pdd"), dictionary);
   expectOneLineError(dir.file("d.pdd"), "not a .pds file");
 }
 
 TEST(PatchSetIO, ImplausibleHeadersAreRejectedBeforeAllocating)
 {
   test_support::TempDir dir;
-  samplePatchSet().save(dir.file("a.pds"));
+  savePatchSet(dir.file("a.pds"), samplePatchSet());
   const std::string bytes = test_support::readFile(dir.file("a.pds"));
   // Header: magic[8], version u32 @8, grid u32 @12, patches u64 @16, radius f64 @24, reserved @32.
   auto withField = [&](std::size_t offset, const void* value, std::size_t size) {
@@ -191,10 +193,10 @@ TEST(PatchSetIO, SaveRejectsInconsistentSets)
   test_support::TempDir dir;
   PatchSet set = samplePatchSet();
   set.source.pop_back();
-  EXPECT_THROW(set.save(dir.file("x.pds")), Error);
+  EXPECT_THROW(savePatchSet(dir.file("x.pds"), set), Error);
   set = samplePatchSet();
   set.heights(0, 0) = std::nan("");
-  EXPECT_THROW(set.save(dir.file("x.pds")), Error);
+  EXPECT_THROW(savePatchSet(dir.file("x.pds"), set), Error);
   EXPECT_TRUE(test_support::readFile(dir.file("x.pds")).empty());
 }
 
@@ -217,7 +219,7 @@ TEST(PatchSetPNG, WritesAPNGContactSheet)
 {
   test_support::TempDir dir;
   const PatchSet set = samplePatchSet();
-  set.savePNG(dir.file("sheet.png"), 8);
+  savePatchSetPNG(dir.file("sheet.png"), set, 8);
   const std::string png = test_support::readFile(dir.file("sheet.png"));
   ASSERT_GT(png.size(), 8u);
   EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
@@ -226,5 +228,5 @@ TEST(PatchSetPNG, WritesAPNGContactSheet)
   empty.radius = 1.0;
   empty.heights.resize(16, 0);
   empty.observed.resize(16, 0);
-  EXPECT_THROW(empty.savePNG(dir.file("none.png")), Error);
+  EXPECT_THROW(savePatchSetPNG(dir.file("none.png"), empty), Error);
 }

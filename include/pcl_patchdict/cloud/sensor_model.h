@@ -73,14 +73,5 @@ SensorModel estimateSensorModel(const std::vector<Eigen::Vector3d>& points, std:
 DepthImage depthImageOnCamera(const std::vector<Eigen::Vector3d>& points, std::size_t width, std::size_t height,
                               const PinholeCamera& camera, double max_reprojection = 1.5);
 
-/** Writes the model as text (every number to 17 digits: a load gives back the same bits), atomically.
-  * Throws Error when the model has no kind or the file cannot be written. */
-void saveSensorModel(const SensorModel& model, const std::string& path);
-/** Reads a model written by saveSensorModel; Error (one line) for anything else. */
-SensorModel loadSensorModel(const std::string& path);
-/** The same, from the file's text. */
-SensorModel parseSensorModel(const std::string& text);
-std::string formatSensorModel(const SensorModel& model);
-
 }  // namespace patchdict
 }  // namespace pcl

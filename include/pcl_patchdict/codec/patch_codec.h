@@ -120,10 +120,6 @@ public:
   void decode(const std::string& bytes, TriangleMesh& out, Report* report = nullptr,
               const std::string& what = "") const;
 
-  /** encode() then writeFileAtomically; decode() of readWholeFile. */
-  void compress(const TriangleMesh& mesh, const std::string& path, Report* report = nullptr) const;
-  void decompress(const std::string& path, TriangleMesh& out, Report* report = nullptr) const;
-
 private:
   void requireDictionary() const;
   PatchDictionary::ConstPtr dictionary_;

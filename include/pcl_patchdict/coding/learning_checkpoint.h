@@ -1,5 +1,5 @@
 // LearningCheckpoint — everything a streamed online-learning run needs to continue bit for bit
-// (learner, shuffle buffer, position in the inputs), as a binary .pdk file written atomically.
+// (learner, shuffle buffer, position in the inputs); its binary .pdk file is io/learning_checkpoint_io.h.
 #pragma once
 
 #include <pcl_patchdict/coding/dictionary_learning.h>
@@ -41,7 +41,7 @@ struct ShardProgress {
   * applyRound; docs/design.md, "Across machines"). Their checkpoint holds the common learner and
   * every shard's progress (`shards`).
   *
-  * File layout (.pdk, little-endian): magic "PCLPDK\0\x1a", version, then the fields below in
+  * Its file (.pdk, io/learning_checkpoint_io.h; little-endian): magic "PCLPDK\0\x1a", version, then the fields below in
   * order (strings and matrices with their sizes first), then FNV-1a 64 of everything before it. */
 struct LearningCheckpoint {
   std::vector<std::pair<std::string, std::string>> settings;
@@ -62,14 +62,6 @@ struct LearningCheckpoint {
     * learner is common); empty for a one-shard run. Version 2 of the format; version 1 files
     * (before shards) are read with none. */
   std::vector<ShardProgress> shards;
-
-  /** Atomic write (writeFileAtomically). */
-  void save(const std::string& path) const;
-  /** Rejects a truncated, corrupted or foreign file, or one of another version, with one line
-    * (Error), checking every size against the bytes left before allocating. */
-  static LearningCheckpoint load(const std::string& path);
-  static LearningCheckpoint fromBytes(const std::string& bytes, const std::string& name = "<memory>");
-  std::string toBytes() const;
 };
 
 }  // namespace patchdict

@@ -1,5 +1,6 @@
 // PatchDictionary — a learned dictionary of N×N height-map atoms (section 4 of Sarkar et al. 2017):
-// learn it (K-SVD or online), code patches with Batch-OMP or masked OMP, decode, save as .pdd.
+// learn it (K-SVD or online), code patches with Batch-OMP or masked OMP, decode (its .pdd file:
+// io/patch_dictionary_io.h).
 #pragma once
 
 #include <pcl_patchdict/core/checksum.h>  // fnv1a64, declared here before
@@ -36,13 +37,16 @@ struct DictionaryLearningOptions {
 };
 
 /** \brief A dictionary of patch atoms — a value: the atoms (N² × K, unit columns), whether codes are
-  * of patches less their mean, and the fingerprint of both — with coding, decoding and its .pdd
-  * file. How it was learned is not part of it beyond what the .pdd file records
+  * of patches less their mean, and the fingerprint of both — with coding and decoding (its .pdd
+  * file: io/patch_dictionary_io.h). How it was learned is not part of it beyond what the .pdd file records
   * (learnedWith()). */
 class PatchDictionary {
 public:
   using Ptr = std::shared_ptr<PatchDictionary>;
   using ConstPtr = std::shared_ptr<const PatchDictionary>;
+
+  static constexpr int kMaxAtoms = 1 << 16;  ///< most atoms a dictionary holds
+  static constexpr int kMaxGridSize = 256;   ///< largest N of its N×N atoms
 
   PatchDictionary() = default;
 
@@ -70,6 +74,12 @@ public:
   void setAtoms(const Eigen::MatrixXd& atoms, std::uint64_t training_patches = 0,
                 const DictionaryLearningOptions& learned_with = DictionaryLearningOptions());
 
+  /** The same with the atoms taken bit for bit, not normalised again: a dictionary as its .pdd file
+    * stores it (io/patch_dictionary_io.h). Throws Error for atoms that are not finite, not N² × K with
+    * N ≤ kMaxGridSize, or more than kMaxAtoms. */
+  void setStoredAtoms(const Eigen::MatrixXd& atoms, std::uint64_t training_patches,
+                      const DictionaryLearningOptions& learned_with);
+
   /** Sparse codes of fully observed patches (Batch-OMP). */
   PatchCodes encode(const Eigen::MatrixXd& patches, const SparseCodingParameters& parameters) const;
   /** Sparse codes from the observed bins only (masked OMP); decode() then fills every bin. */
@@ -77,16 +87,6 @@ public:
                           const SparseCodingParameters& parameters) const;
   /** D·codes (+ means): the patches the codes describe. */
   Eigen::MatrixXd decode(const PatchCodes& codes) const;
-
-  /** Writes the .pdd file (atomically). */
-  void save(const std::string& path) const;
-  /** Reads a .pdd file; with expected_grid_size > 0, a dictionary of another grid is an error.
-    * Truncated, corrupted (checksum) or implausible files are rejected with one clear line. */
-  static Ptr load(const std::string& path, int expected_grid_size = 0);
-  /** The same from the bytes of a .pdd file held in memory; `name` is what error messages call it. */
-  static Ptr fromBytes(const std::string& bytes, int expected_grid_size = 0, const std::string& name = "<memory>");
-  /** Writes the atoms as a PNG contact sheet (like Fig. 5, left, of the paper). */
-  void saveAtomsPNG(const std::string& path, int columns = 20, int pixels_per_bin = 4) const;
 
   bool empty() const { return atoms_.size() == 0; }
   int gridSize() const { return grid_size_; }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <pcl_patchdict/core/triangle_mesh.h>
+#include <pcl_patchdict/quads/quad_mesh.h>
 
 #include <pcl/PCLPointCloud2.h>
 
@@ -67,6 +68,10 @@ void readPointCloudBlob(const std::string& path, pcl::PCLPointCloud2& blob, Eige
 /** Writes a binary PCD atomically (whole file or nothing, as writeMesh). */
 void writePointCloudBlob(const std::string& path, const pcl::PCLPointCloud2& blob, const Eigen::Vector4f& origin,
                          const Eigen::Quaternionf& orientation);
+
+/** Writes a quad (polygon) mesh as OBJ (.obj) or ASCII PLY (.ply), atomically; throws Error for any
+  * other extension or a write failure. Vertices are written with 17 significant digits. */
+void writeQuadMesh(const std::string& path, const QuadMesh& mesh);
 
 }  // namespace patchdict
 }  // namespace pcl

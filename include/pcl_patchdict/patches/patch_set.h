@@ -1,5 +1,6 @@
 // PatchSet — the height-map patches of a surface (section 3 of Sarkar et al. 2017): grid size N,
-// radius r, per patch its seed s and frame R_s, its N² heights and which bins were observed; saved as .pds.
+// radius r, per patch its seed s and frame R_s, its N² heights and which bins were observed; saved as .pds
+// (io/patch_set_io.h).
 #pragma once
 
 #include <pcl_patchdict/core/observation_mask.h>
@@ -20,6 +21,9 @@ namespace patchdict {
   * R·(p − s), world = s + Rᵀ·local, the T_s of section 3.1), in double, the core's form of a frame
   * (core/local_frame.h): the extractor stores the frames it receives as they are. */
 struct PatchSet {
+  /** Largest N (as a dictionary's): a 256×256 patch is already far beyond the paper's 16–24. */
+  static constexpr int kMaxGridSize = 256;
+
   int grid_size = 0;        ///< N: a patch has N×N bins
   double radius = 0.0;      ///< r: patch side √2·r, neighbourhood radius r
   std::vector<Eigen::Vector3d> seeds;      ///< P seed points s (patch origins)
@@ -37,19 +41,6 @@ struct PatchSet {
   void check() const;
   /** Appends another set's patches (same grid size and radius, else Error): global sets. */
   void append(const PatchSet& other);
-
-  /** Writes the binary .pds file atomically (little-endian; magic, version, N, r, P, then seeds,
-    * rotations, heights, mask, sources, and an FNV-1a 64 checksum of everything before it). */
-  void save(const std::string& path) const;
-  /** Reads a .pds file. Truncated, corrupted (checksum), mismatched (magic, version) or
-    * implausible files are rejected with one clear line (pcl::patchdict::Error), before any
-    * allocation larger than the file itself. */
-  static PatchSet load(const std::string& path);
-  /** The same from the bytes of a .pds file held in memory; `name` is what error messages call it. */
-  static PatchSet fromBytes(const std::string& bytes, const std::string& name = "<memory>");
-  /** Contact sheet of the patches (first `max_patches` of them when > 0), unobserved bins drawn
-    * as a checker, `columns` tiles per row. */
-  void savePNG(const std::string& path, int columns = 20, int pixels_per_bin = 4, std::size_t max_patches = 0) const;
 };
 
 }  // namespace patchdict

@@ -40,9 +40,6 @@ struct QuadMeshStatistics {
 /** Statistics of a quad mesh. Throws Error for an out-of-range face index. */
 QuadMeshStatistics computeQuadMeshStatistics(const QuadMesh& mesh);
 
-/** Writes the polygon mesh as OBJ (.obj) or ASCII PLY (.ply), atomically; throws Error for any
-  * other extension or a write failure. Vertices are written with 17 significant digits. */
-void writeQuadMesh(const std::string& path, const QuadMesh& mesh);
 
 }  // namespace patchdict
 }  // namespace pcl

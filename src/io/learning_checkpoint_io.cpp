@@ -1,13 +1,12 @@
-// .pdk checkpoints of streamed online learning: magic, version, named settings, progress, learner
-// state (D, A, B, counters, generator), shuffle buffer; FNV-1a 64 checksum; sizes checked first.
+// The .pdk checkpoint file of streamed online learning: magic, version, named settings, progress,
+// learner state (D, A, B, counters, generator), shuffle buffer; FNV-1a 64 checksum; sizes checked first.
 #include "core/binary_format.h"
 #include "core/byte_stream.h"
 
+#include <pcl_patchdict/core/atomic_file.h>
 #include <pcl_patchdict/core/checksum.h>
-#include <pcl_patchdict/io/atomic_file.h>
 #include <pcl_patchdict/core/error.h>
-#include <pcl_patchdict/coding/learning_checkpoint.h>
-#include <pcl_patchdict/coding/patch_dictionary.h>
+#include <pcl_patchdict/io/learning_checkpoint_io.h>
 
 #include <cstring>
 
@@ -191,7 +190,7 @@ ShardProgress getShard(detail::ByteReader& in, std::uint64_t num_inputs)
 
 }  // namespace
 
-std::string LearningCheckpoint::toBytes() const
+std::string formatLearningCheckpoint(const LearningCheckpoint& checkpoint)
 {
   if (!detail::isLittleEndian())
     throw Error("writing .pdk files needs a little-endian machine");
@@ -199,30 +198,32 @@ std::string LearningCheckpoint::toBytes() const
   // The buffer dominates (41 MB at the default size): one allocation, not a doubling string.
   const auto matrixBytes = [](Eigen::Index size, std::size_t entry) { return 16 + entry * static_cast<std::size_t>(size); };
   std::size_t shard_bytes = 0;
-  for (const ShardProgress& shard : shards) {
+  for (const ShardProgress& shard : checkpoint.shards) {
     shard_bytes += 4096 + matrixBytes(shard.buffer.buffered.size(), 9) + matrixBytes(shard.buffer.pending.size(), 9);
     for (const Eigen::MatrixXd& batch : shard.ready)
       shard_bytes += matrixBytes(batch.size(), 9);
   }
+  const OnlineDictionaryLearner::State& learner = checkpoint.learner;
+  const PatchShuffleBuffer::State& buffer = checkpoint.buffer;
   out.bytes().reserve(4096 + shard_bytes + learner.rng.size() + buffer.rng.size() + matrixBytes(learner.dictionary.size(), 8) +
                       matrixBytes(learner.a.size(), 8) + matrixBytes(learner.b.size(), 8) +
                       matrixBytes(buffer.buffered.size(), 9) + matrixBytes(buffer.pending.size(), 9));
   out.putRaw(kMagic, sizeof kMagic);
   out.putU32(kVersion);
-  out.putU64(settings.size());
-  for (const auto& setting : settings) {
+  out.putU64(checkpoint.settings.size());
+  for (const auto& setting : checkpoint.settings) {
     putString(out, setting.first);
     putString(out, setting.second);
   }
-  out.putU64(inputs_fingerprint);
-  out.putU64(num_inputs);
-  out.putU32(pass);
-  out.putU64(next_input);
-  out.putU32(static_cast<std::uint32_t>(grid_size));
-  out.putU64(patches);
-  out.putU64(patches_streamed);
-  out.putF64(observed_sum);
-  putSkipped(out, skipped);
+  out.putU64(checkpoint.inputs_fingerprint);
+  out.putU64(checkpoint.num_inputs);
+  out.putU32(checkpoint.pass);
+  out.putU64(checkpoint.next_input);
+  out.putU32(static_cast<std::uint32_t>(checkpoint.grid_size));
+  out.putU64(checkpoint.patches);
+  out.putU64(checkpoint.patches_streamed);
+  out.putF64(checkpoint.observed_sum);
+  putSkipped(out, checkpoint.skipped);
   const OnlineLearningParameters& parameters = learner.parameters;
   out.putU32(static_cast<std::uint32_t>(parameters.num_atoms));
   out.putU32(static_cast<std::uint32_t>(parameters.sparsity));
@@ -235,24 +236,24 @@ std::string LearningCheckpoint::toBytes() const
   out.putU64(learner.steps);
   putString(out, learner.rng);
   putBuffer(out, buffer);
-  out.putU64(shards.size());
-  for (const ShardProgress& shard : shards)
+  out.putU64(checkpoint.shards.size());
+  for (const ShardProgress& shard : checkpoint.shards)
     putShard(out, shard);
   out.putU64(fnv1a64(out.bytes().data(), out.bytes().size()));
   return out.bytes();
 }
 
-void LearningCheckpoint::save(const std::string& path) const
+void saveLearningCheckpoint(const std::string& path, const LearningCheckpoint& checkpoint)
 {
-  writeFileAtomically(path, toBytes());
+  writeFileAtomically(path, formatLearningCheckpoint(checkpoint));
 }
 
-LearningCheckpoint LearningCheckpoint::load(const std::string& path)
+LearningCheckpoint loadLearningCheckpoint(const std::string& path)
 {
-  return fromBytes(readWholeFile(path), path);
+  return parseLearningCheckpoint(readWholeFile(path), path);
 }
 
-LearningCheckpoint LearningCheckpoint::fromBytes(const std::string& bytes, const std::string& name)
+LearningCheckpoint parseLearningCheckpoint(const std::string& bytes, const std::string& name)
 {
   if (!detail::isLittleEndian())
     throw Error("reading .pdk files needs a little-endian machine");
