@@ -72,8 +72,8 @@ LearningReport PatchDictionary::learn(const Eigen::MatrixXd& patches, const Obse
                                      const DictionaryLearningOptions& options)
 {
   const int grid = gridOf(patches.rows());
-  if (options.num_atoms < 1 || options.num_atoms > PatchDictionary::kMaxAtoms)
-    throw Error("the number of atoms must be in [1, " + std::to_string(PatchDictionary::kMaxAtoms) + "]");
+  if (options.num_atoms < 1 || options.num_atoms > kMaxAtoms)
+    throw Error("the number of atoms must be in [1, " + std::to_string(kMaxAtoms) + "]");
   if (options.sparsity < 1 || options.iterations < 1 || options.batch_size < 1)
     throw Error("sparsity, iterations and batch size must be at least 1");
   const ObservationMask* mask_pointer = mask.size() ? &mask : nullptr;
@@ -108,9 +108,9 @@ LearningReport PatchDictionary::learn(const Eigen::MatrixXd& patches, const Obse
 void PatchDictionary::setAtoms(const Eigen::MatrixXd& atoms, std::uint64_t training_patches,
                                const DictionaryLearningOptions& learned_with)
 {
-  const int grid = gridOf(atoms.rows());
-  if (atoms.cols() < 1 || atoms.cols() > PatchDictionary::kMaxAtoms || !atoms.allFinite())
-    throw Error("atoms must be finite, at least one and at most " + std::to_string(PatchDictionary::kMaxAtoms));
+  gridOf(atoms.rows());
+  if (atoms.cols() < 1 || atoms.cols() > kMaxAtoms || !atoms.allFinite())
+    throw Error("atoms must be finite, at least one and at most " + std::to_string(kMaxAtoms));
   Eigen::MatrixXd normalised = atoms;
   for (Eigen::Index k = 0; k < normalised.cols(); ++k) {
     const double norm = normalised.col(k).norm();
@@ -118,12 +118,7 @@ void PatchDictionary::setAtoms(const Eigen::MatrixXd& atoms, std::uint64_t train
       throw Error("atom " + std::to_string(k) + " is zero");
     normalised.col(k) /= norm;
   }
-  atoms_ = normalised;
-  grid_size_ = grid;
-  learned_with_ = learned_with;
-  learned_with_.num_atoms = static_cast<int>(atoms.cols());
-  gram_ = atoms_.transpose() * atoms_;
-  training_patches_ = training_patches;
+  setStoredAtoms(normalised, training_patches, learned_with);
 }
 
 void PatchDictionary::setStoredAtoms(const Eigen::MatrixXd& atoms, std::uint64_t training_patches,

@@ -18,6 +18,7 @@
 #include <Eigen/Dense>
 
 #include <cstring>
+#include <limits>
 #include <random>
 
 using namespace pcl::patchdict;
@@ -96,6 +97,24 @@ TEST(PatchDictionary, SaveLoadIsBitExact)
   ASSERT_EQ(loaded->atoms().size(), dictionary->atoms().size());
   EXPECT_EQ(std::memcmp(loaded->atoms().data(), dictionary->atoms().data(), sizeof(double) * 64 * 12), 0);
   EXPECT_EQ(loaded->fingerprint(), dictionary->fingerprint());
+}
+
+TEST(PatchDictionary, StoredAtomsAreTakenBitForBitAndFormattedBackToTheSameBytes)
+{
+  // A file's atoms are unit columns only to rounding: setAtoms would divide them by a norm of
+  // 1 ± 1 ulp and change their bits, setStoredAtoms (what the .pdd reader uses) keeps them.
+  Eigen::MatrixXd atoms = smallDictionary()->atoms();
+  atoms(0, 0) = std::nextafter(atoms(0, 0), 1.0);
+  PatchDictionary stored;
+  stored.setStoredAtoms(atoms, 5, DictionaryLearningOptions());
+  EXPECT_EQ(std::memcmp(stored.atoms().data(), atoms.data(), sizeof(double) * 64 * 12), 0);
+  const std::string bytes = formatPatchDictionary(stored);
+  EXPECT_EQ(formatPatchDictionary(*parsePatchDictionary(bytes)), bytes);
+  EXPECT_EQ(parsePatchDictionary(bytes)->trainingPatches(), 5u);
+  EXPECT_THROW(stored.setStoredAtoms(Eigen::MatrixXd::Constant(63, 2, 0.1), 0, {}), Error);  // not N×N
+  atoms(3, 2) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(stored.setStoredAtoms(atoms, 0, {}), Error);
+  EXPECT_THROW(formatPatchDictionary(PatchDictionary()), Error);  // no atoms
 }
 
 TEST(PatchDictionary, TheLearningOptionsAreRecordedAndComeBackFromTheFile)
