@@ -19,8 +19,6 @@ namespace {
 // .pdd layout (little-endian): header, atoms as float64 column-major, then FNV-1a 64 of all before.
 constexpr char kMagic[8] = {'P', 'C', 'L', 'P', 'D', 'D', '\0', '\x1a'};
 constexpr std::uint32_t kVersion = 1;
-constexpr int kMaxGrid = PatchDictionary::kMaxGridSize;
-constexpr int kMaxAtoms = PatchDictionary::kMaxAtoms;
 
 // The header: magic (8 bytes); version, grid size, atom count, flags (bit 0: remove mean), method,
 // sparsity, iterations, reserved (u32 each); seed, training patches (u64 each).
@@ -87,7 +85,8 @@ PatchDictionary::Ptr parsePatchDictionary(const std::string& bytes, int expected
   if (header.version != kVersion)
     throw Error(where + "format version " + std::to_string(header.version) + " (this build reads version " +
                 std::to_string(kVersion) + ")");
-  if (header.grid_size < 1 || header.grid_size > kMaxGrid || header.num_atoms < 1 || header.num_atoms > kMaxAtoms ||
+  if (header.grid_size < 1 || header.grid_size > PatchDictionary::kMaxGridSize || header.num_atoms < 1 ||
+      header.num_atoms > PatchDictionary::kMaxAtoms ||
       header.method > 1 || (header.flags & ~1u) != 0)
     throw Error(where + "implausible header (grid " + std::to_string(header.grid_size) + ", atoms " +
                 std::to_string(header.num_atoms) + ")");

@@ -23,7 +23,6 @@ namespace {
 // then FNV-1a 64 of all the bytes before it. Same conventions as the .pdd dictionary file.
 constexpr char kMagic[8] = {'P', 'C', 'L', 'P', 'D', 'S', '\0', '\x1a'};
 constexpr std::uint32_t kVersion = 1;
-constexpr int kMaxGrid = PatchSet::kMaxGridSize;
 
 // The header: magic (8 bytes), version (u32), grid size (u32), patch count (u64), radius (f64),
 // reserved (u64, 0).
@@ -92,7 +91,7 @@ PatchSet parsePatchSet(const std::string& bytes, const std::string& name)
   if (version != kVersion)
     throw Error(where + "format version " + std::to_string(version) + " (this build reads version " +
                 std::to_string(kVersion) + ")");
-  if (grid_size < 1 || grid_size > static_cast<std::uint32_t>(kMaxGrid) || !(radius > 0.0) || !std::isfinite(radius) ||
+  if (grid_size < 1 || grid_size > static_cast<std::uint32_t>(PatchSet::kMaxGridSize) || !(radius > 0.0) || !std::isfinite(radius) ||
       reserved != 0)
     throw Error(where + "implausible header (grid " + std::to_string(grid_size) + ", radius " + std::to_string(radius) +
                 ")");
