@@ -32,7 +32,7 @@ int runDenoise(const std::vector<std::string>& raw)
   if (args.has("noise") && args.has("noise-edges"))
     throw UsageError("--noise and --noise-edges exclude each other");
   if (args.has("mu"))
-    throw UsageError("--mu weighs the patch constraints of inpaint and fill-holes; denoise's is --fidelity");
+    throw UsageError("--mu weighs the patch constraints of fill-missing and fill-holes; denoise's is --fidelity");
   if (!args.has("dict") && !args.has("self-similar"))
     refusePatchOptions(args, "denoise runs only with --dict or --self-similar");
   const bool quiet = line.quiet;

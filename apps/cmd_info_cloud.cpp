@@ -165,7 +165,7 @@ int runCloudInfo(const Arguments& args)
     if (model.kind == SensorModel::Kind::None)
       throw Error("no sensor model to save: " +
                   (organised || by_ring ? model.failure : std::string("the cloud is not organised and has no rings")));
-    saveSensorModel(model, out);
+    saveSensorModel(out, model);
     json.add("sensor_model_file", out);
     summary += "\n  sensor model written to " + out;
   }

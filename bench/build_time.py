@@ -42,7 +42,12 @@ def children_cpu():
 def build(label, commit, args, number):
     """One clean build of commit; returns (wall, CPU, {object: compile CPU seconds})."""
     tree = os.path.join(args.work, label)
-    if not os.path.isdir(tree):
+    at = subprocess.run(["git", "-C", tree, "rev-parse", "HEAD"], capture_output=True, text=True).stdout.strip() \
+        if os.path.isdir(tree) else ""
+    if at != commit:
+        if os.path.isdir(tree):  # left by an interrupted run, maybe at another commit
+            subprocess.run(["git", "-C", ROOT, "worktree", "remove", "--force", tree], capture_output=True)
+            shutil.rmtree(tree, ignore_errors=True)
         git("worktree", "add", "--detach", tree, commit)
     out = os.path.join(args.work, "build-%s" % label)
     shutil.rmtree(out, ignore_errors=True)

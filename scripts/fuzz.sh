@@ -10,7 +10,7 @@ build_dir="${PCL_PATCHDICT_FUZZ_BUILD_DIR:-$root/build-fuzz}"
 seconds="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(ply obj off stl pcd pdd pds pdc pdk index)
+[ ${#targets[@]} -gt 0 ] || targets=(ply obj off stl pcd pdd pds pdc pdk index sensor)
 
 if ! command -v clang++ >/dev/null; then
   echo "fuzz.sh: clang++ is needed (apt-get install clang)" >&2

@@ -1,5 +1,5 @@
-// Little-endian byte streams with LEB128 varints and zlib-packed sections: the building blocks of
-// the .pdc format (private to the library). Every read is bounds-checked and fails with one line.
+// Little-endian byte streams with LEB128 varints and zlib-packed sections: the one binary idiom of
+// the .pds, .pdd, .pdk and .pdc formats (private to the library). Every read is bounds-checked and fails with one line.
 #pragma once
 
 #include <pcl_patchdict/core/error.h>

@@ -105,7 +105,7 @@ std::string formatSensorModel(const SensorModel& model)
   return out.str();
 }
 
-SensorModel parseSensorModel(const std::string& text)
+static SensorModel parseModelText(const std::string& text)
 {
   const auto fields = readLines(text);
   const Reader read{fields};
@@ -159,19 +159,23 @@ SensorModel parseSensorModel(const std::string& text)
   return model;
 }
 
-void saveSensorModel(const SensorModel& model, const std::string& path)
+SensorModel parseSensorModel(const std::string& text, const std::string& name)
+{
+  try {
+    return parseModelText(text);
+  } catch (const Error& e) {
+    throw Error(name + ": " + e.what());
+  }
+}
+
+void saveSensorModel(const std::string& path, const SensorModel& model)
 {
   writeFileAtomically(path, formatSensorModel(model));
 }
 
 SensorModel loadSensorModel(const std::string& path)
 {
-  const std::string text = readWholeFile(path);
-  try {
-    return parseSensorModel(text);
-  } catch (const Error& e) {
-    throw Error(path + ": " + e.what());
-  }
+  return parseSensorModel(readWholeFile(path), path);
 }
 
 }  // namespace patchdict

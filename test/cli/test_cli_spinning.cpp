@@ -91,7 +91,7 @@ TEST(CliSpinning, AFrameOfAnotherSensorAndABadModelAreRefusedInOneLine)
   pcl::patchdict::SensorModel other = pcl::patchdict::loadSensorModel(dir.file("os1.txt"));
   for (double& e : other.spinning.elevation)
     e += 0.0175;
-  pcl::patchdict::saveSensorModel(other, dir.file("other.txt"));
+  pcl::patchdict::saveSensorModel(dir.file("other.txt"), other);
   expectRefused(runTool("fill-holes " + q(frame()) + " -o " + q(dir.file("o.pcd")) + " --sensor-model " +
                         q(dir.file("other.txt")) + " --quiet"),
                 dir.file("o.pcd"), "does not fit the sensor model");

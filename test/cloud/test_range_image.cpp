@@ -356,7 +356,7 @@ TEST(SensorModelText, RoundTripIsBitExact)
   expectSameSpinning(model, parsed);
   EXPECT_EQ(pcl::patchdict::formatSensorModel(parsed), text);
   test_support::TempDir dir;
-  pcl::patchdict::saveSensorModel(model, dir.file("os.sensor"));
+  pcl::patchdict::saveSensorModel(dir.file("os.sensor"), model);
   EXPECT_EQ(test_support::readFile(dir.file("os.sensor")), text);
   const SensorModel loaded = pcl::patchdict::loadSensorModel(dir.file("os.sensor"));
   expectSameSpinning(model, loaded);

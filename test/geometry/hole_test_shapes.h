@@ -1,4 +1,4 @@
-// Shapes with holes the hole-filling tests share (test_hole_filling.cpp, test_hole_filling_cli.cpp).
+// Shapes with holes the hole-filling tests share (test/geometry/test_hole_filling.cpp, test/cli/test_cli_fill_holes_mesh.cpp).
 #pragma once
 
 #include <pcl_patchdict/core/triangle_mesh.h>

@@ -1,5 +1,5 @@
 // The stage order of docs/layout.md as a test: every include in include/, src/ and apps/ is read, and
-// an include of a later stage (or of the evaluation code from the library) fails, with its file and line.
+// an include of a later stage (of the evaluation code or the PCL skin from the library) fails, with its file and line.
 #include "test_support.h"
 
 #include <gtest/gtest.h>
@@ -162,7 +162,13 @@ std::vector<std::string> orderViolations(const fs::path& root, const StageOrder&
         continue;
       }
       if (order.index(target) < 0 || !library)
-        continue;  // the tool and the evaluation code may use every stage; "x/y.h" of no stage is local
+        continue;
+      // The skin serves users: no stage of the library includes it (docs/layout.md, "The PCL skin").
+      const std::string name = fs::path(include.text.substr(1, include.text.size() - 2)).stem().string();
+      if (target == "pcl" && stage != "pcl" && std::count(order.skin.begin(), order.skin.end(), name) > 0) {
+        out.push_back(where + ": no stage includes the PCL skin");
+        continue;
+      }  // the tool and the evaluation code may use every stage; "x/y.h" of no stage is local
       // The skin sits after the stages it serves, up to `coding`.
       const int allowed = skin ? std::max(order.index(stage), order.index("coding")) : order.index(stage);
       if (order.index(target) > allowed)
@@ -204,7 +210,8 @@ TEST(IncludeOrder, APlantedWrongIncludeIsFound)
   };
   write("include/pcl_patchdict/core/a.h", "#pragma once\n#include <pcl_patchdict/core/b.h>\n#include <pcl/point_types.h>\n");
   write("include/pcl_patchdict/geometry/g.h", "#pragma once\n\n  #  include <pcl_patchdict/cloud/c.h>\n");
-  write("src/quads/q.cpp", "#include \"patches/private.h\"\n#include <pcl_patchdict/geometry/g.h>\n");
+  write("src/quads/q.cpp", "#include \"patches/private.h\"\n#include <pcl_patchdict/geometry/g.h>\n"
+                           "#include <pcl_patchdict/pcl/quad_frame_estimation.h>\n");
   write("src/io/r.cpp", "#include <pcl_patchdict_eval/shapes.h>\n");
   write("src/pcl/quad_frame_estimation.cpp", "#include <pcl_patchdict/coding/sparse_coding.h>\n");
   write("src/pcl/conversions.cpp", "#include <pcl_patchdict/quads/quad_mesh.h>\n");
@@ -215,13 +222,15 @@ TEST(IncludeOrder, APlantedWrongIncludeIsFound)
   order.skin = {"quad_frame_estimation"};
   const std::vector<std::string> found = orderViolations(root, order);
   fs::remove_all(root);
-  ASSERT_EQ(found.size(), 5u) << joined(found);
+  ASSERT_EQ(found.size(), 6u) << joined(found);
   EXPECT_EQ(found[0].rfind("include/pcl_patchdict/geometry/g.h:3: <pcl_patchdict/cloud/c.h>", 0), 0u) << found[0];
   EXPECT_EQ(found[1].rfind("src/io/r.cpp:1:", 0), 0u) << found[1];
   EXPECT_NE(found[1].find("evaluation code"), std::string::npos) << found[1];
   EXPECT_EQ(found[2].rfind("src/pcl/conversions.cpp:1:", 0), 0u) << found[2];  // not skin
   EXPECT_EQ(found[3].rfind("src/quads/q.cpp:1: \"patches/private.h\"", 0), 0u) << found[3];
-  EXPECT_EQ(found[4].rfind("src/repair/s.cpp:1: \"pcl/point_conversion.h\": a private header", 0), 0u) << found[4];
+  EXPECT_EQ(found[4].rfind("src/quads/q.cpp:3: <pcl_patchdict/pcl/quad_frame_estimation.h>: no stage includes", 0),
+            0u) << found[4];
+  EXPECT_EQ(found[5].rfind("src/repair/s.cpp:1: \"pcl/point_conversion.h\": a private header", 0), 0u) << found[5];
 }
 
 }  // namespace

@@ -40,8 +40,10 @@ public:
   void setDenoiseOptions(const DenoiseOptions& options) { denoise_options_ = options; }
   const DenoiseOptions& getDenoiseOptions() const { return denoise_options_; }
   void setMissingVerticesOptions(const MissingVerticesOptions& options) { missing_options_ = options; }
+  const MissingVerticesOptions& getMissingVerticesOptions() const { return missing_options_; }
   /** FillMissingVertices: the vertices whose positions are unknown. */
   void setMissingVertices(const std::vector<int>& indices) { missing_ = indices; }
+  const std::vector<int>& getMissingVertices() const { return missing_; }
   /** The dictionary of every mode (null, the default: self-similar where a mode uses patches). */
   void setDictionary(const PatchDictionary::ConstPtr& dictionary);
 
