@@ -1,4 +1,5 @@
-// PatchSet: .pds round trip bit for bit, rejection of damaged files with one line, PNG output.
+// The .pds format (io/patch_set_io.h): round trip bit for bit, rejection of damaged files with one line,
+// PNG output; and PatchSet::append, which shares the sample set.
 #include <pcl_patchdict/core/checksum.h>
 #include <pcl_patchdict/core/error.h>
 #include <pcl_patchdict/patches/height_maps.h>
