@@ -91,6 +91,19 @@ void saveResult(const ReconstructLine& line, const UnitCubeNormalization& normal
   timer.stop();
 }
 
+/** The input moved into its unit cube, and its patches: seeds laid by layPatches, heights extracted (the
+  * timer's "seeds" and "extract" stages). */
+PatchSet unitCubePatches(const ReconstructLine& line, TriangleMesh& reference, UnitCubeNormalization& normalization,
+                         StageTimer& timer)
+{
+  normalization = UnitCubeNormalization::fromMesh(reference);
+  normalization.apply(reference);
+  timer.start("seeds");
+  const PatchLayout layout = layPatches(reference, layoutOf(line), line.placement);
+  timer.start("extract");
+  return extractSurfacePatches(reference, layout, line.grid_size);
+}
+
 // 2. A cloud has no vertices to move: its output is the cloud of the patches' observed bins.
 int reconstructCloud(const Arguments& args, const ReconstructLine& line, TriangleMesh reference,
                      const PatchDictionary::Ptr& dictionary, StageTimer& timer)
@@ -99,12 +112,8 @@ int reconstructCloud(const Arguments& args, const ReconstructLine& line, Triangl
     throw Error("a point cloud needs --placement quads (its seeds lie on its Poisson surface)");
   args.refuse("rule", "reads patches at a mesh's vertices; a cloud's output is the patches' points");
   args.refuse("samples", "samples a mesh's score; a cloud is scored point to point");
-  const UnitCubeNormalization normalization = UnitCubeNormalization::fromMesh(reference);
-  normalization.apply(reference);
-  timer.start("seeds");
-  const PatchLayout layout = layPatches(reference, layoutOf(line), line.placement);
-  timer.start("extract");
-  PatchSet patches = extractSurfacePatches(reference, layout, line.grid_size);
+  UnitCubeNormalization normalization;
+  PatchSet patches = unitCubePatches(line, reference, normalization, timer);
   const double patch_rmse = dictionary ? codeThroughDictionary(*dictionary, line.sparsity, patches) : 0.0;
   timer.start("reconstruct");
   TriangleMesh result;
@@ -154,13 +163,8 @@ int reconstructMesh(const Arguments& args, const ReconstructLine& line, Triangle
                     const PatchDictionary::Ptr& dictionary, StageTimer& timer)
 {
   const std::vector<int> referenced = referencedVertices(reference);
-  const UnitCubeNormalization normalization = UnitCubeNormalization::fromMesh(reference);
-  normalization.apply(reference);
-
-  timer.start("seeds");
-  const PatchLayout layout = layPatches(reference, layoutOf(line), line.placement);
-  timer.start("extract");
-  PatchSet patches = extractSurfacePatches(reference, layout, line.grid_size);
+  UnitCubeNormalization normalization;
+  PatchSet patches = unitCubePatches(line, reference, normalization, timer);
   double patch_rmse = 0.0;
   if (dictionary) {
     timer.start("code");
