@@ -186,6 +186,24 @@ PatchSet unobservedPatches(const std::vector<Eigen::Vector3d>& seeds, const std:
   return result;
 }
 
+// The faces' centroids, and `reach`: any point of a triangle is within it of its centroid (convexity:
+// the farthest point is a vertex). The circumradius would not do: for an obtuse triangle it can be
+// smaller than that.
+std::vector<Eigen::Vector3d> faceCentroids(const TriangleMesh& mesh, double& reach)
+{
+  std::vector<Eigen::Vector3d> centroids(mesh.faces.size());
+  reach = 0.0;
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    const Eigen::Vector3d& a = mesh.vertices[mesh.faces[f][0]];
+    const Eigen::Vector3d& b = mesh.vertices[mesh.faces[f][1]];
+    const Eigen::Vector3d& c = mesh.vertices[mesh.faces[f][2]];
+    const Eigen::Vector3d centroid = (a + b + c) / 3.0;
+    centroids[f] = centroid;
+    reach = std::max({reach, (a - centroid).norm(), (b - centroid).norm(), (c - centroid).norm()});
+  }
+  return centroids;
+}
+
 // Exact heights: rasterise, in the seed's frame, the XY projections of the triangles that can reach
 // the patch, sampling the barycentric interpolant at the bin centres (a ray along Z per bin centre,
 // done triangle by triangle).
@@ -198,18 +216,8 @@ void meshHeights(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& s
   const auto& vertices = mesh.vertices;
   const auto& faces = mesh.faces;
 
-  std::vector<Eigen::Vector3d> centroids(faces.size());
-  // Any point of a triangle is within `reach` of its centroid (convexity: the farthest point is a
-  // vertex). The circumradius would not do: for an obtuse triangle it can be smaller than that.
   double reach = 0.0;
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    const Eigen::Vector3d& a = vertices[faces[f][0]];
-    const Eigen::Vector3d& b = vertices[faces[f][1]];
-    const Eigen::Vector3d& c = vertices[faces[f][2]];
-    const Eigen::Vector3d centroid = (a + b + c) / 3.0;
-    centroids[f] = centroid;
-    reach = std::max({reach, (a - centroid).norm(), (b - centroid).norm(), (c - centroid).norm()});
-  }
+  const std::vector<Eigen::Vector3d> centroids = faceCentroids(mesh, reach);
   // A surface point counted by the patch is within r of the seed (the r-neighbourhood of section
   // 3.1), so the triangle holding it has its centroid within r + reach. Centroids in cells, as the
   // cloud's points are (no kd-tree; the visiting order does not matter, see the rule below).
