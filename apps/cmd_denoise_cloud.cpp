@@ -456,7 +456,8 @@ JsonObject nonlocalStageJson(const NonlocalPatchReport& p, double scale)
   stage.add("decision", toString(p.outcome)).add("reason", p.reason)
       .add("base_error", p.base_error / scale).add("patch_error", p.patch_error / scale).add("z", p.z)
       .add("scored_points", p.scored_points).add("moved", p.moved_points)
-      .add("median_neighbours", p.median_neighbours).add("mean_correction", p.mean_correction / scale)
+      .add("median_neighbours", p.median_neighbours).add("own_share", p.own_share)
+      .add("mean_correction", p.mean_correction / scale)
       .add("seconds_check", p.seconds_check).add("seconds_apply", p.seconds_apply);
   return stage;
 }

@@ -58,7 +58,8 @@ bool lowerRisk(const std::vector<Eigen::Vector3d>& noisy, const detail::Nonlocal
       continue;
     const double L = fits[i].leverage, mb = fits[i].loo_residual;
     const double base_risk = (1.0 - L) * (1.0 - L) * (mb * mb - s2) + L * L * s2;
-    const double a = o.self_weight / (h.weight[i] + o.self_weight), mp = h.own[i] - h.blind[i];
+    const double a = h.own_share >= 0.0 ? h.own_share : o.self_weight / (h.weight[i] + o.self_weight);
+    const double mp = h.own[i] - h.blind[i];
     const double patch_risk = (1.0 - a) * (1.0 - a) * (mp * mp - s2) + a * a * s2;
     const double gain = base_risk - patch_risk;
     base_sum += base_risk;

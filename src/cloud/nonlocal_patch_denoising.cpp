@@ -498,6 +498,26 @@ double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(
 
 namespace detail {
 
+/** The own height and the blind average by their variances: σ², and the average's error variance
+  * (one for the cloud: mean (own − blind)² − σ² over the points with matches; the own noise entered
+  * neither the blind average nor its matches). */
+void combineByVariance(double noise_sigma, NonlocalHeights& h)
+{
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < h.own.size(); ++i)
+    if (h.valid[i] && h.weight[i] > 0.0) {
+      sum += (h.own[i] - h.blind[i]) * (h.own[i] - h.blind[i]);
+      ++count;
+    }
+  const double s2 = noise_sigma * noise_sigma;
+  const double v = count ? std::max(sum / static_cast<double>(count) - s2, 0.0) : 0.0;
+  h.own_share = v / (v + s2);
+  for (std::size_t i = 0; i < h.own.size(); ++i)
+    if (h.valid[i])
+      h.estimate[i] = h.own_share * h.own[i] + (1.0 - h.own_share) * h.blind[i];
+}
+
 NonlocalHeights averageAndMove(const std::vector<Eigen::Vector3d>& noisy, const std::vector<Eigen::Vector3d>& base,
                                double spacing, double noise_sigma, const NonlocalPatchOptions& options,
                                std::vector<Eigen::Vector3d>& denoised, NonlocalPatchReport& r)
@@ -518,6 +538,9 @@ NonlocalHeights averageAndMove(const std::vector<Eigen::Vector3d>& noisy, const 
     all[i] = i;
   NonlocalHeights h;
   nonlocalHeights({noisy, base, base, noisy, base.size(), all}, spacing, noise_sigma, options, h);
+  if (options.blind_radius > 0.0 && options.own_by_variance)
+    combineByVariance(noise_sigma, h);
+  r.own_share = std::max(h.own_share, 0.0);
   denoised = base;
   std::vector<double> effective;
   double moved = 0.0;

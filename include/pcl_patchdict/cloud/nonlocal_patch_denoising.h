@@ -37,6 +37,12 @@ struct NonlocalPatchOptions {
   /// one patch (2 × dimensions × the noise variance of a bin).
   double bandwidth_factor = 3.0;
   double self_weight = 1.0;        ///< weight of the query's own grid in the average
+  /// With a blind spot: the point's own height and its blind average combined by their variances
+  /// instead — own share a = v / (v + σ²), v the average's error variance (one per cloud: the mean
+  /// squared miss of the blind averages against the points' own heights, less σ²). Off by default:
+  /// better on the reliefs at k = 0.5, but the decision then applied it to a smooth dome where it is
+  /// 1.21 × worse (docs/results.md).
+  bool own_by_variance = false;
   double search_eps = 0.5;         ///< approximate nearest descriptors: within (1 + eps) × the true distance
   /// Blind spot: descriptor bins whose centres lie within this many spacings of the patch's own point
   /// are left out of the match, and the points within it out of the other bins, and no patch whose
@@ -61,6 +67,7 @@ struct NonlocalPatchReport {
   std::size_t scored_points = 0;
   std::size_t moved_points = 0;
   double median_neighbours = 0.0;  ///< median effective number of averaged patches (Σw)²/Σw²
+  double own_share = 0.0;          ///< own_by_variance: the share a of the point's own height
   double mean_correction = 0.0;    ///< mean |move| of the points (input units)
   double seconds_check = 0.0, seconds_apply = 0.0;
 };
@@ -120,6 +127,7 @@ struct NonlocalHeights {
   /// query's own noise entered neither, and estimate = (W·blind + self_weight·own) / (W + self_weight).
   std::vector<double> blind, weight;
   std::vector<char> valid;
+  double own_share = -1.0;  ///< ≥ 0: estimate = own_share × own + (1 − own_share) × blind (own_by_variance)
 };
 void nonlocalHeights(const NonlocalData& data, double spacing, double noise_sigma, const NonlocalPatchOptions& options,
                      NonlocalHeights& heights);
