@@ -62,6 +62,7 @@ struct CloudRepairResult {
   pcl::Indices filled;   ///< a depth image's filled pixels
   CloudPatchReport patches;  ///< the patch stage of an unorganised fill
   CloudPatchReport denoise_patches;  ///< …and of the denoising
+  NonlocalPatchReport nonlocal_patches;  ///< the denoising's non-local stage
   std::size_t removed() const
   {
     return report.outlier_filter_removed + report.residual_removed + report.unfit_removed;
@@ -154,6 +155,7 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
     result.report = inpainter.getReport();
     result.patches = inpainter.getPatchReport();
     result.denoise_patches = inpainter.getDenoisingPatchReport();
+    result.nonlocal_patches = inpainter.getNonlocalPatchReport();
     result.records = inpainter.getKeptIndices();
     result.records.insert(result.records.end(), inpainter.getAddedSources().begin(), inpainter.getAddedSources().end());
     if (inpainter.getReport().depth_image || inpainter.getReport().range_image)
@@ -448,6 +450,18 @@ JsonObject patchStageJson(const CloudPatchReport& p, double scale)
   return patches;
 }
 
+JsonObject nonlocalStageJson(const NonlocalPatchReport& p, double scale)
+{
+  JsonObject stage;
+  stage.add("decision", toString(p.outcome)).add("reason", p.reason)
+      .add("base_error", p.base_error / scale).add("patch_error", p.patch_error / scale).add("z", p.z)
+      .add("scored_points", p.scored_points).add("moved", p.moved_points)
+      .add("median_neighbours", p.median_neighbours).add("own_share", p.own_share)
+      .add("mean_correction", p.mean_correction / scale)
+      .add("seconds_check", p.seconds_check).add("seconds_apply", p.seconds_apply);
+  return stage;
+}
+
 JsonObject cloudRepairJson(const CloudRepairLine& line, const CloudInput& input, const CloudRepairResult& result,
                            const StageTimer& timer)
 {
@@ -488,8 +502,10 @@ JsonObject cloudRepairJson(const CloudRepairLine& line, const CloudInput& input,
   if (!report.depth_image && !report.range_image) {
     if (fill)
       json.add("patches", patchStageJson(result.patches, scale));
-    if (result.mode != Inpainter::Mode::Complete)
+    if (result.mode != Inpainter::Mode::Complete) {
       json.add("denoise_patches", patchStageJson(result.denoise_patches, scale));
+      json.add("nonlocal_patches", nonlocalStageJson(result.nonlocal_patches, scale));
+    }
   }
   if (fill && !report.depth_image)
     json.add("free_space_dropped", report.free_space_dropped);

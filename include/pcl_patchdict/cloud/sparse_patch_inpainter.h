@@ -4,6 +4,7 @@
 
 #include <pcl_patchdict/cloud/cloud_patch_correction.h>
 #include <pcl_patchdict/cloud/geometric_cloud_repair.h>
+#include <pcl_patchdict/cloud/nonlocal_patch_denoising.h>
 
 #include <pcl/point_cloud.h>
 #include <pcl/surface/processing.h>
@@ -19,9 +20,12 @@ namespace patchdict {
   *  1. The base is a GeometricCloudRepair (local quadrics, spline and implicit fills, depth
   *     images; getGeometricRepair() sets it up): it denoises, and in the Complete modes adds
   *     points in the holes at the input's density.
-  *  2. Unorganised clouds, Denoise modes: denoiseCloudWithPatches moves the base's points onto
-  *     patches binned from the points as measured and sparse-coded to the noise level, when the
-  *     relief check measures the dictionary ahead of a smooth fill (getDenoisingPatchReport()).
+  *  2. Unorganised clouds, Denoise modes: over a given dictionary (setDictionary),
+  *     denoiseCloudWithPatches moves the base's points onto patches binned from the points as
+  *     measured and sparse-coded to the noise level, when cross-validation measures them ahead
+  *     (getDenoisingPatchReport()). Otherwise, or when it declines, denoiseCloudNonlocally averages
+  *     similar patches across the cloud where leave-one-out errors measure that well ahead of the
+  *     base (getNonlocalPatchReport()).
   *  3. Unorganised clouds, Complete modes: correctCloudFillWithPatches moves the new points onto
   *     patches completed by masked OMP over a dictionary (setDictionary; none: self-similar, learned
   *     from the cloud's own patches), when the relief check measures the dictionary ahead of a
@@ -56,14 +60,22 @@ public:
   void setDictionary(const PatchDictionary::ConstPtr& dictionary) { patch_options_.dictionary = dictionary; }
   PatchDictionary::ConstPtr getDictionary() const { return patch_options_.dictionary; }
   /** Auto (default): patches where the relief check measures them ahead; Always; Never (the base). */
-  void setPatchDecision(PatchDecision decision) { patch_options_.decision.mode = decision; }
+  void setPatchDecision(PatchDecision decision)
+  {
+    patch_options_.decision.mode = decision;
+    nonlocal_options_.decision.mode = decision;
+  }
   PatchDecision getPatchDecision() const { return patch_options_.decision.mode; }
   void setPatchOptions(const CloudPatchOptions& options) { patch_options_ = options; }
   const CloudPatchOptions& getPatchOptions() const { return patch_options_; }
+  /** The non-local stage of the denoising (its decision.mode is set by setPatchDecision too). */
+  void setNonlocalPatchOptions(const NonlocalPatchOptions& options) { nonlocal_options_ = options; }
+  const NonlocalPatchOptions& getNonlocalPatchOptions() const { return nonlocal_options_; }
   void setNumberOfThreads(int threads)
   {
     base_.setNumberOfThreads(threads);
     patch_options_.num_threads = threads;
+    nonlocal_options_.num_threads = threads;
   }
 
   /** What the base did, and what the patch stage decided and did, in the last process(). */
@@ -71,6 +83,8 @@ public:
   const CloudPatchReport& getPatchReport() const { return patch_report_; }
   /** The patch stage of the denoising (Denoise and DenoiseAndComplete modes). */
   const CloudPatchReport& getDenoisingPatchReport() const { return denoise_report_; }
+  /** The non-local stage of the denoising (Denoise and DenoiseAndComplete modes). */
+  const NonlocalPatchReport& getNonlocalPatchReport() const { return nonlocal_report_; }
   const pcl::Indices& getKeptIndices() const { return base_.getKeptIndices(); }
   const pcl::Indices& getAddedSources() const { return base_.getAddedSources(); }
 
@@ -84,6 +98,8 @@ private:
   Base base_;
   CloudPatchOptions patch_options_;
   CloudPatchReport patch_report_, denoise_report_;
+  NonlocalPatchOptions nonlocal_options_;
+  NonlocalPatchReport nonlocal_report_;
 };
 
 }  // namespace patchdict

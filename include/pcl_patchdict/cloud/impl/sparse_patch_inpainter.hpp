@@ -31,12 +31,13 @@ template <typename PointInT, typename PointOutT>
 void SparsePatchInpainter<PointInT, PointOutT>::performProcessing(PointCloudOut& output)
 {
   patch_report_ = denoise_report_ = CloudPatchReport();
+  nonlocal_report_ = NonlocalPatchReport();
   base_.setInputCloud(input_);
   base_.setIndices(indices_);
   base_.process(output);
   const CloudRepairReport& report = base_.getReport();
   if (report.depth_image || report.range_image || output.height > 1) {
-    patch_report_.reason = denoise_report_.reason =
+    patch_report_.reason = denoise_report_.reason = nonlocal_report_.reason =
         report.range_image ? "a spinning LiDAR's range image, repaired along its beams"
                            : "an organised depth image, repaired in the sensor's image";
     return;
@@ -55,13 +56,30 @@ void SparsePatchInpainter<PointInT, PointOutT>::performProcessing(PointCloudOut&
       denoised.push_back(position(i));
     }
     if (noisy.size() >= 100) {
-      denoiseCloudWithPatches(noisy, denoised, report.mean_spacing, report.noise_sigma, detail::baseRisk(report),
-                              patch_options_, corrected, &denoise_report_);
-      if (denoise_report_.outcome == PatchOutcome::Applied)
+      // The dictionary's patches (K-SVD on the surface) denoise only over a given dictionary: self-similar
+      // ones were declined on every cloud measured and were 2–4 × worse when forced (docs/results.md).
+      if (patch_options_.dictionary) {
+        denoiseCloudWithPatches(noisy, denoised, report.mean_spacing, report.noise_sigma, detail::baseRisk(report),
+                                patch_options_, corrected, &denoise_report_);
+      } else if (patch_options_.decision.mode == PatchDecision::Never) {
+        denoise_report_.outcome = PatchOutcome::Declined;
+        denoise_report_.reason = "patches off";
+      } else {
+        denoise_report_.reason = "no dictionary given: similar patches of the cloud denoise (the non-local stage)";
+      }
+      if (denoise_report_.outcome == PatchOutcome::Applied) {
+        nonlocal_report_.reason = "the dictionary's patches applied";
+      } else {
+        // The base's bandwidth, to refit it on half the points (none under a depth law: declined).
+        const double h = report.depth_law ? 0.0 : report.bandwidth;
+        denoiseCloudNonlocally(noisy, denoised, report.mean_spacing, report.noise_sigma, h, nonlocal_options_,
+                               corrected, &nonlocal_report_);
+      }
+      if (denoise_report_.outcome == PatchOutcome::Applied || nonlocal_report_.outcome == PatchOutcome::Applied)
         for (std::size_t i = 0; i < corrected.size(); ++i)
           output[i].getVector3fMap() = corrected[i].template cast<float>();
     } else {
-      denoise_report_.reason = "fewer than 100 points kept";
+      denoise_report_.reason = nonlocal_report_.reason = "fewer than 100 points kept";
     }
   }
   if (added == 0) {
