@@ -65,7 +65,7 @@ void SparsePatchInpainter<PointInT, PointOutT>::performProcessing(PointCloudOut&
         denoise_report_.outcome = PatchOutcome::Declined;
         denoise_report_.reason = "patches off";
       } else {
-        denoise_report_.reason = "no dictionary given: similar patches of the cloud denoise (the non-local stage)";
+        denoise_report_.reason = "no dictionary given: self-similar patches are not tried (declined on every cloud measured)";
       }
       if (denoise_report_.outcome == PatchOutcome::Applied) {
         nonlocal_report_.reason = "the dictionary's patches applied";
