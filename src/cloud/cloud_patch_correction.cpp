@@ -35,23 +35,6 @@ void requireFinite(const std::vector<Eigen::Vector3d>& points, const char* what)
       throw Error(std::string("patch fill: the ") + what + " points must be finite");
 }
 
-/** Mean distance of each of (up to 20,000 evenly strided) points to its nearest other point. */
-double meanSpacing(const std::vector<Eigen::Vector3d>& points)
-{
-  const detail::PointSearch tree(points);
-  const std::size_t stride = std::max<std::size_t>(1, points.size() / 20000);
-  double sum = 0.0;
-  std::size_t count = 0;
-  std::vector<int> near(2);
-  std::vector<float> squared(2);
-  for (std::size_t i = 0; i < points.size(); i += stride)
-    if (tree.nearest(points[i], 2, near, squared) == 2) {
-      sum += std::sqrt(static_cast<double>(squared[1]));
-      ++count;
-    }
-  return count ? sum / static_cast<double>(count) : 0.0;
-}
-
 /** Connected groups of `points` linked within `link`; returns the group of each point. */
 std::vector<int> groupPoints(const std::vector<Eigen::Vector3d>& points, double link, int& groups)
 {
@@ -337,7 +320,7 @@ bool startPatchStage(const std::vector<Eigen::Vector3d>& observed, const std::ve
   const bool off = o.decision.mode == PatchDecision::Never;
   r.outcome = off ? PatchOutcome::Declined : PatchOutcome::NotRun;
   r.reason = off ? "patches off" : "";
-  r.spacing = spacing > 0.0 && std::isfinite(spacing) ? spacing : meanSpacing(observed);
+  r.spacing = spacing > 0.0 && std::isfinite(spacing) ? spacing : detail::meanNearestSpacing(observed);
   return !off && !targets.empty();
 }
 

@@ -473,22 +473,6 @@ void nonlocalHeights(const NonlocalData& in, double spacing, double noise_sigma,
   averageMatches(db, in.queries, rows, index, g, h2, o, threads, heights);
 }
 
-double meanNearestSpacing(const std::vector<Eigen::Vector3d>& points)
-{
-  const PointSearch tree(points);
-  const std::size_t stride = std::max<std::size_t>(1, points.size() / 20000);
-  double sum = 0.0;
-  std::size_t count = 0;
-  std::vector<int> near(2);
-  std::vector<float> squared(2);
-  for (std::size_t i = 0; i < points.size(); i += stride)
-    if (tree.nearest(points[i], 2, near, squared) == 2) {
-      sum += std::sqrt(static_cast<double>(squared[1]));
-      ++count;
-    }
-  return count ? sum / static_cast<double>(count) : 0.0;
-}
-
 }  // namespace detail
 
 namespace {
@@ -532,7 +516,7 @@ NonlocalHeights averageAndMove(const std::vector<Eigen::Vector3d>& noisy, const 
     if (!base[i].allFinite() || !noisy[i].allFinite())
       throw Error("non-local patches: the points must be finite");
   if (!(spacing > 0.0) || !std::isfinite(spacing))
-    spacing = meanNearestSpacing(base);
+    spacing = detail::meanNearestSpacing(base);
   std::vector<std::size_t> all(base.size());
   for (std::size_t i = 0; i < all.size(); ++i)
     all[i] = i;

@@ -8,6 +8,8 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace pcl {
@@ -49,6 +51,24 @@ public:
 private:
   pcl::KdTreeFLANN<pcl::PointXYZ> tree_;
 };
+
+/** Mean distance of (up to 20,000 evenly strided) points to their nearest other point; 0 when none
+  * has a neighbour. */
+inline double meanNearestSpacing(const std::vector<Eigen::Vector3d>& points)
+{
+  const PointSearch tree(points);
+  const std::size_t stride = std::max<std::size_t>(1, points.size() / 20000);
+  double sum = 0.0;
+  std::size_t count = 0;
+  std::vector<int> near(2);
+  std::vector<float> squared(2);
+  for (std::size_t i = 0; i < points.size(); i += stride)
+    if (tree.nearest(points[i], 2, near, squared) == 2) {
+      sum += std::sqrt(static_cast<double>(squared[1]));
+      ++count;
+    }
+  return count ? sum / static_cast<double>(count) : 0.0;
+}
 
 }  // namespace detail
 }  // namespace patchdict

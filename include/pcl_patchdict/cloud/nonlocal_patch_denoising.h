@@ -140,8 +140,6 @@ NonlocalHeights averageAndMove(const std::vector<Eigen::Vector3d>& noisy, const 
                                double spacing, double noise_sigma, const NonlocalPatchOptions& options,
                                std::vector<Eigen::Vector3d>& denoised, NonlocalPatchReport& report);
 
-/** Mean distance of (up to 20,000 evenly strided) points to their nearest other point. */
-double meanNearestSpacing(const std::vector<Eigen::Vector3d>& points);
 }  // namespace detail
 
 }  // namespace patchdict
