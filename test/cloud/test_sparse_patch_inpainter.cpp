@@ -4,6 +4,8 @@
 #include <pcl_patchdict/cloud/sparse_patch_inpainter.h>
 #include <pcl_patchdict/core/error.h>
 
+#include "relief_test_shapes.h"
+
 #include <gtest/gtest.h>
 
 #include <pcl/point_types.h>
@@ -16,16 +18,9 @@ namespace {
 
 using pcl::patchdict::PatchDecision;
 using Inpainter = pcl::patchdict::SparsePatchInpainter<pcl::PointXYZ>;
-using Height = std::function<double(double, double)>;
-
-/** Grooves 0.004 deep, 0.03 apart, at 30° to x, with walls a few spacings wide. */
-double grooves(double x, double y)
-{
-  const double phase = (x * std::cos(0.5236) + y * std::sin(0.5236)) / 0.03;
-  return 0.002 * std::tanh(4.0 * std::sin(2.0 * M_PI * phase));
-}
-
-double dome(double x, double y) { return -0.3 * (x * x + y * y); }
+using relief_test_shapes::Height;
+using relief_test_shapes::dome;
+using relief_test_shapes::grooves;
 
 /** 40,000 uniform samples of z = height(x, y) over [-0.25, 0.25]², without four discs of radius 0.03. */
 pcl::PointCloud<pcl::PointXYZ>::Ptr holedCloud(const Height& height)
