@@ -41,12 +41,12 @@ void baseLeaveOneOut(const std::vector<Eigen::Vector3d>& noisy, double h, int th
   fitLocalQuadrics(noisy, {}, search, queries, p, false, fits);
 }
 
-/** The decision: per point, the risk of the base and of the non-local average, each from a prediction
+/** The leave-one-out estimate (reported, not deciding): per point, the risk of the base and of the non-local average, each from a prediction
   * its own noise did not enter (the base's leave-one-out fit; the blind matches), combined with the
   * point's own height as each estimator combines them (leverage L; self_weight / (W + self_weight)).
-  * Fills the report's errors, z and scored points; returns whether the average applies. */
-bool lowerRisk(const std::vector<Eigen::Vector3d>& noisy, const detail::NonlocalHeights& h, double noise_sigma,
-               double bandwidth, const NonlocalPatchOptions& o, NonlocalPatchReport& r)
+  * Fills the report's errors, z and scored points (none when fewer than 100 points can be scored). */
+void estimateRisks(const std::vector<Eigen::Vector3d>& noisy, const detail::NonlocalHeights& h, double noise_sigma,
+                   double bandwidth, const NonlocalPatchOptions& o, NonlocalPatchReport& r)
 {
   std::vector<LocalQuadricFit> fits;
   baseLeaveOneOut(noisy, bandwidth, o.num_threads, fits);
@@ -69,22 +69,14 @@ bool lowerRisk(const std::vector<Eigen::Vector3d>& noisy, const detail::Nonlocal
     ++n;
   }
   r.scored_points = n;
-  if (n < 100) {
-    r.reason = "too few points to measure";
-    return false;
-  }
+  if (n < 100)
+    return;
   const double count = static_cast<double>(n);
   const double base_risk = base_sum / count, patch_risk = patch_sum / count, mean_gain = gain_sum / count;
   const double variance = std::max(gain_squares / count - mean_gain * mean_gain, 0.0) * count / (count - 1.0);
   r.base_error = std::sqrt(std::max(base_risk, 0.0));
   r.patch_error = std::sqrt(std::max(patch_risk, 0.0));
   r.z = variance > 0.0 ? mean_gain / std::sqrt(variance / count) : 0.0;
-  const bool lower = base_risk > 0.0 && patchesLowerTheRisk(patch_risk, base_risk, o.decision);
-  if (!lower)
-    r.reason = "leave-one-out, the non-local average's error is not below the base's by the margin";
-  else if (r.z < o.min_z)
-    r.reason = "leave-one-out, the non-local average's gain is not significant";
-  return lower && r.z >= o.min_z;
 }
 
 }  // namespace
@@ -123,15 +115,14 @@ void denoiseCloudNonlocally(const std::vector<Eigen::Vector3d>& noisy, const std
   const detail::NonlocalHeights h = detail::averageAndMove(noisy, base, spacing, noise_sigma, o, moved, r);
   // The leave-one-out estimate, reported (a blind spot and the base's bandwidth are needed); it does
   // not decide (above).
-  bool below = false;
   if (o.blind_radius > 0.0 && bandwidth > 0.0) {
     const auto start = Clock::now();
-    below = lowerRisk(noisy, h, noise_sigma, bandwidth, o, r);
+    estimateRisks(noisy, h, noise_sigma, bandwidth, o, r);
     r.seconds_check = secondsSince(start);
   }
   denoised.swap(moved);
   r.outcome = PatchOutcome::Applied;
-  r.reason = below ? "forced (leave-one-out estimate below the base's)" : "forced";
+  r.reason = "forced";
 }
 
 }  // namespace patchdict

@@ -38,10 +38,8 @@ void NonlocalPatchOptions::check() const
     throw Error("non-local patches: the search tolerance and the blind radius must be ≥ 0");
   if (blind_radius >= 0.5 * grid_size * bin_spacings)
     throw Error("non-local patches: the blind radius must be below half the patch side");
-  if (decision.mode == PatchDecision::Auto && !(blind_radius > 0.0))
-    throw Error("non-local patches: the measured decision needs a blind spot (blind radius > 0)");
-  if (pca_sample < 1 || !std::isfinite(min_z) || min_z < 0.0 || num_threads < 0)
-    throw Error("non-local patches: the PCA sample must be ≥ 1, the z ≥ 0 and the threads ≥ 0");
+  if (pca_sample < 1 || num_threads < 0)
+    throw Error("non-local patches: the PCA sample must be ≥ 1 and the threads ≥ 0");
 }
 
 namespace detail {

@@ -17,13 +17,6 @@ namespace patchdict {
   *
   * Defaults: those of bench/denoise_probes.py nonlocal, measured in docs/results.md. */
 struct NonlocalPatchOptions {
-  NonlocalPatchOptions()
-  {
-    // The leave-one-out errors are optimistic for the average (measured: sole 0.72–0.75 × the base's
-    // estimated where the truth says 0.89; bunny 0.89–0.91 where it says 1.20): only a large measured
-    // gain is taken as a gain.
-    decision.min_risk_reduction = 0.25;
-  }
   /// Always applies (and reports the leave-one-out estimate), Never returns the base; Auto, the
   /// default, declines without running: its check was measured to misjudge smooth scans.
   PatchDecisionOptions decision;
@@ -51,9 +44,6 @@ struct NonlocalPatchOptions {
   /// nor makes its average, which the decision needs (0: off, the probe's descriptors; Always only).
   double blind_radius = 0.5;
   std::size_t pca_sample = 20000;  ///< descriptors (evenly strided) the PCA basis is fitted on
-  /// The reported estimate is "below the base's" when it is lower by decision.min_risk_reduction and
-  /// the paired gain is at least this many standard errors.
-  double min_z = 3.0;
   int num_threads = 0;             ///< 0: OpenMP's default
   /// Throws Error naming the first setting out of range.
   void check() const;
@@ -98,11 +88,9 @@ void averageSimilarPatches(const std::vector<Eigen::Vector3d>& noisy, const std:
   * estimate (needs blind_radius > 0, so that no point's own noise chooses or makes its matches): per point, the base's error from its local quadric refitted at the base's `bandwidth`
   * without the point (its leave-one-out residual r and leverage L: (1 − L)²(r² − σ²) + L²σ²), and the
   * average's from its blind matches alone (their miss m, and a = self_weight / (W + self_weight):
-  * (1 − a)²(m² − σ²) + a²σ²). The stage applies when the mean of the second is below the mean of the
-  * first by decision.min_risk_reduction (patchesLowerTheRisk; 0.25 by default, as these estimates
-  * were measured optimistic for the average) and the paired gain is at least min_z standard errors:
-  * then the report's reason says so. `denoised` gets one point per base point (the base when
-  * declined). */
+  * (1 − a)²(m² − σ²) + a²σ²), their means as base_error and patch_error, and the paired gain's z.
+  * These figures were measured biased both ways (docs/results.md): they are reported, not used.
+  * `denoised` gets one point per base point (the base when declined). */
 void denoiseCloudNonlocally(const std::vector<Eigen::Vector3d>& noisy, const std::vector<Eigen::Vector3d>& base,
                             double spacing, double noise_sigma, double bandwidth, const NonlocalPatchOptions& options,
                             std::vector<Eigen::Vector3d>& denoised, NonlocalPatchReport* report = nullptr);
