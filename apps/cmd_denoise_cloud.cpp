@@ -43,6 +43,7 @@ struct CloudRepairLine {
   OrganizedFillParameters organized;
   std::string height_field = "auto";
   std::string patches = "measured";  ///< --patch-decision: measured or always
+  std::size_t max_checked_points = NonlocalPatchOptions().max_checked_points;  ///< --max-checked-points
   SensorModel sensor_model;          ///< --sensor-model: the frames' saved sensor model (kind None: none)
   /// The bound the report names: the one given, or Poisson's own (CloudHoleCompletion's 0.15 × the
   /// largest side when max_hole_diameter is 0).
@@ -102,6 +103,7 @@ CloudRepairLine readCloudRepairLine(const Arguments& args, bool fill)
     line.height_field = args.getWord("height-field");
   }
   line.patches = args.getWord("patch-decision");
+  line.max_checked_points = static_cast<std::size_t>(args.getInt("max-checked-points"));
   if (args.has("sensor-model"))
     line.sensor_model = loadSensorModel(args.get("sensor-model"));  // checked before the input is read
   return line;
@@ -148,6 +150,9 @@ CloudRepairResult repairCloud(const Arguments& args, const CloudRepairLine& line
     if (line.sensor_model.kind != SensorModel::Kind::None)
       base.setSensorModel(line.sensor_model);
     inpainter.setDictionary(dictionary);
+    NonlocalPatchOptions nonlocal = inpainter.getNonlocalPatchOptions();
+    nonlocal.max_checked_points = line.max_checked_points;
+    inpainter.setNonlocalPatchOptions(nonlocal);
     inpainter.setPatchDecision(args.has("no-patches")                 ? PatchDecision::Never
                                : line.patches == "always" ? PatchDecision::Always
                                                                      : PatchDecision::Auto);

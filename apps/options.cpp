@@ -2,6 +2,8 @@
 // below (quadLength, overlap, grid, ...), so that its spelling, argument and range are written once.
 #include "options.h"
 
+#include <pcl_patchdict/cloud/nonlocal_patch_denoising.h>
+
 #include <stdexcept>
 #include <tuple>
 
@@ -245,6 +247,9 @@ std::vector<OptionSpec> cloudDenoisingOptions()
           flag("no-patches", "the geometric result alone (no patch stage)"),
           flag("self-similar", "patches of a dictionary learned from the input (the default; applied if measured to help)"),
           patchDecision(),
+          integer("max-checked-points", "N", static_cast<long long>(NonlocalPatchOptions().max_checked_points), 0, 1LL << 40,
+                  "unorganised clouds of more points skip the non-local patches (their check and the stage cost "
+                  "two runs of it, ~0.4 ms a point); 0: no limit"),
           text("dict", "DICT.pdd", "code the patches over this dictionary (applied if measured to help)"),
           text("sensor-model", "MODEL.txt",
                "organised frames: the sensor model saved by info --save-sensor-model (nothing fitted; "

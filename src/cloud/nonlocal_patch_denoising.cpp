@@ -38,6 +38,8 @@ void NonlocalPatchOptions::check() const
     throw Error("non-local patches: the search tolerance and the blind radius must be ≥ 0");
   if (blind_radius >= 0.5 * grid_size * bin_spacings)
     throw Error("non-local patches: the blind radius must be below half the patch side");
+  if (!std::isfinite(check_alpha) || check_alpha < 0.05 || check_alpha > 2.0)
+    throw Error("non-local patches: the check's alpha must be in [0.05, 2]");
   if (pca_sample < 1 || num_threads < 0)
     throw Error("non-local patches: the PCA sample must be ≥ 1 and the threads ≥ 0");
 }

@@ -24,8 +24,9 @@ namespace patchdict {
   *     denoiseCloudWithPatches moves the base's points onto patches binned from the points as
   *     measured and sparse-coded to the noise level, when cross-validation measures them ahead
   *     (getDenoisingPatchReport()). Otherwise, or when it declines, denoiseCloudNonlocally averages
-  *     similar patches across the cloud, only when asked (setPatchDecision(Always)): no check yet
-  *     tells where it helps (getNonlocalPatchReport() says why it did not run).
+  *     similar patches across the cloud where a coupled bootstrap check measures the average ahead
+  *     of the base (getNonlocalPatchReport(): the decision, both estimates, the seconds); clouds of
+  *     more than NonlocalPatchOptions::max_checked_points are left to the base unless forced.
   *  3. Unorganised clouds, Complete modes: correctCloudFillWithPatches moves the new points onto
   *     patches completed by masked OMP over a dictionary (setDictionary; none: self-similar, learned
   *     from the cloud's own patches), when the relief check measures the dictionary ahead of a
