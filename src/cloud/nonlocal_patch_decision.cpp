@@ -90,12 +90,15 @@ bool recorruptedCheck(const std::vector<Eigen::Vector3d>& noisy, double spacing,
       up_base[i] = up_fits[i].position;
   std::vector<Eigen::Vector3d> up_average;
   NonlocalPatchReport scratch;
+  const std::size_t stride =
+      o.check_queries > 0 ? std::max<std::size_t>(1, (noisy.size() + o.check_queries - 1) / o.check_queries) : 1;
   const detail::NonlocalHeights h = detail::averageAndMove(up, up_base, spacing, noise_sigma * std::sqrt(1.0 + alpha * alpha),
-                                                           o, up_average, scratch);
+                                                           o, up_average, scratch, stride);
   double base_sum = 0.0, patch_sum = 0.0, gain_sum = 0.0, gain_squares = 0.0;
   std::size_t n = 0;
-  for (std::size_t i = 0; i < noisy.size(); ++i) {
-    if (!fits[i].valid || !up_fits[i].valid || !h.valid[i])
+  for (std::size_t t = 0; t < h.valid.size(); ++t) {
+    const std::size_t i = t * stride;
+    if (!fits[i].valid || !up_fits[i].valid || !h.valid[t])
       continue;
     const double eb = (up_base[i] - down[i]).dot(normal[i]), ep = (up_average[i] - down[i]).dot(normal[i]);
     const double gain = eb * eb - ep * ep;

@@ -504,7 +504,7 @@ void combineByVariance(double noise_sigma, NonlocalHeights& h)
 
 NonlocalHeights averageAndMove(const std::vector<Eigen::Vector3d>& noisy, const std::vector<Eigen::Vector3d>& base,
                                double spacing, double noise_sigma, const NonlocalPatchOptions& options,
-                               std::vector<Eigen::Vector3d>& denoised, NonlocalPatchReport& r)
+                               std::vector<Eigen::Vector3d>& denoised, NonlocalPatchReport& r, std::size_t stride)
 {
   const auto start = Clock::now();
   options.check();
@@ -517,11 +517,13 @@ NonlocalHeights averageAndMove(const std::vector<Eigen::Vector3d>& noisy, const 
       throw Error("non-local patches: the points must be finite");
   if (!(spacing > 0.0) || !std::isfinite(spacing))
     spacing = detail::meanNearestSpacing(base);
-  std::vector<std::size_t> all(base.size());
-  for (std::size_t i = 0; i < all.size(); ++i)
-    all[i] = i;
+  if (stride < 1)
+    throw Error("non-local patches: the stride must be ≥ 1");
+  std::vector<std::size_t> queries;
+  for (std::size_t i = 0; i < base.size(); i += stride)
+    queries.push_back(i);
   NonlocalHeights h;
-  nonlocalHeights({noisy, base, base, noisy, base.size(), all}, spacing, noise_sigma, options, h);
+  nonlocalHeights({noisy, base, base, noisy, base.size(), queries}, spacing, noise_sigma, options, h);
   if (options.blind_radius > 0.0 && options.own_by_variance)
     combineByVariance(noise_sigma, h);
   r.own_share = std::max(h.own_share, 0.0);
@@ -529,12 +531,13 @@ NonlocalHeights averageAndMove(const std::vector<Eigen::Vector3d>& noisy, const 
   std::vector<double> effective;
   double moved = 0.0;
   r.moved_points = 0;
-  for (std::size_t i = 0; i < base.size(); ++i) {
-    if (!h.valid[i])
+  for (std::size_t t = 0; t < queries.size(); ++t) {
+    if (!h.valid[t])
       continue;  // too few neighbours for a patch: the base's point
-    denoised[i] = noisy[i] + (h.estimate[i] - h.own[i]) * h.normal[i];
+    const std::size_t i = queries[t];
+    denoised[i] = noisy[i] + (h.estimate[t] - h.own[t]) * h.normal[t];
     moved += (denoised[i] - base[i]).norm();
-    effective.push_back(h.effective[i]);
+    effective.push_back(h.effective[t]);
     ++r.moved_points;
   }
   r.mean_correction = r.moved_points ? moved / static_cast<double>(r.moved_points) : 0.0;

@@ -51,6 +51,9 @@ struct NonlocalPatchOptions {
   /// Auto declines clouds of more points than this without running (0: no limit): the check and the
   /// average cost two runs of the stage, about 0.4 ms a point on 2 cores (docs/results.md).
   std::size_t max_checked_points = 200000;
+  /// The check averages every k-th point only, k the smallest stride that leaves at most this many
+  /// (all patches are still matched against): its time is then mostly the descriptors' (0: all points).
+  std::size_t check_queries = 25000;
   std::size_t pca_sample = 20000;  ///< descriptors (evenly strided) the PCA basis is fitted on
   int num_threads = 0;             ///< 0: OpenMP's default
   /// Throws Error naming the first setting out of range.
@@ -132,10 +135,12 @@ struct NonlocalHeights {
 void nonlocalHeights(const NonlocalData& data, double spacing, double noise_sigma, const NonlocalPatchOptions& options,
                      NonlocalHeights& heights);
 
-/** averageSimilarPatches, returning the heights it moved the points by. */
+/** averageSimilarPatches, returning the heights it moved the points by (one per query: points 0, stride,
+  * 2·stride, …, matched against every patch; the other points keep the base). */
 NonlocalHeights averageAndMove(const std::vector<Eigen::Vector3d>& noisy, const std::vector<Eigen::Vector3d>& base,
                                double spacing, double noise_sigma, const NonlocalPatchOptions& options,
-                               std::vector<Eigen::Vector3d>& denoised, NonlocalPatchReport& report);
+                               std::vector<Eigen::Vector3d>& denoised, NonlocalPatchReport& report,
+                               std::size_t stride = 1);
 
 }  // namespace detail
 
