@@ -248,8 +248,8 @@ std::vector<OptionSpec> cloudDenoisingOptions()
           flag("self-similar", "patches of a dictionary learned from the input (the default; applied if measured to help)"),
           patchDecision(),
           integer("max-checked-points", "N", static_cast<long long>(NonlocalPatchOptions().max_checked_points), 0, 1LL << 40,
-                  "unorganised clouds of more points skip the non-local patches (their check and the stage cost "
-                  "two runs of it, ~0.4 ms a point); 0: no limit"),
+                  "unorganised clouds of more points skip the non-local patches (on 2 cores their check costs "
+                  "0.1-0.5 ms a point, the stage 0.3-0.6 ms); 0: no limit"),
           text("dict", "DICT.pdd", "code the patches over this dictionary (applied if measured to help)"),
           text("sensor-model", "MODEL.txt",
                "organised frames: the sensor model saved by info --save-sensor-model (nothing fitted; "

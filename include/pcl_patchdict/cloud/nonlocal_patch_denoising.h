@@ -48,8 +48,8 @@ struct NonlocalPatchOptions {
   /// scores against a twin with noise σ√(1 + 1/α²) (see denoiseCloudNonlocally).
   double check_alpha = 0.5;
   std::uint64_t seed = 0;          ///< of the check's extra noise (same seed, same decision)
-  /// Auto declines clouds of more points than this without running (0: no limit): the check and the
-  /// average cost two runs of the stage, about 0.4 ms a point on 2 cores (docs/results.md).
+  /// Auto declines clouds of more points than this without running (0: no limit): on 2 cores the
+  /// check costs 0.10–0.46 ms a point and the average 0.29–0.63 ms (docs/results.md).
   std::size_t max_checked_points = 200000;
   /// The check averages every k-th point only, k the smallest stride that leaves at most this many
   /// (all patches are still matched against): its time is then mostly the descriptors' (0: all points).
